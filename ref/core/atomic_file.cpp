@@ -1,0 +1,49 @@
+#include "core/atomic_file.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <stdexcept>
+
+namespace dynref {
+
+std::string TempPathFor(const std::string& path) {
+  return path + ".tmp." + std::to_string(static_cast<long>(::getpid()));
+}
+
+void AtomicRename(const std::string& temp_path, const std::string& final_path) {
+  if (std::rename(temp_path.c_str(), final_path.c_str()) != 0) {
+    std::remove(temp_path.c_str());
+    throw std::runtime_error("cannot rename " + temp_path + " to " + final_path);
+  }
+}
+
+AtomicOutputFile::AtomicOutputFile(const std::string& final_path, bool binary)
+    : final_path_(final_path), temp_path_(TempPathFor(final_path)) {
+  out_.open(temp_path_, binary ? std::ios::out | std::ios::binary | std::ios::trunc
+                               : std::ios::out | std::ios::trunc);
+  if (!out_) throw std::runtime_error("cannot open " + temp_path_ + " for writing");
+}
+
+AtomicOutputFile::~AtomicOutputFile() {
+  if (!committed_) {
+    out_.close();
+    std::remove(temp_path_.c_str());
+  }
+}
+
+void AtomicOutputFile::Commit() {
+  out_.flush();
+  if (!out_) throw std::runtime_error("write failed: " + temp_path_);
+  out_.close();
+  AtomicRename(temp_path_, final_path_);
+  committed_ = true;
+}
+
+void AtomicWriteFile(const std::string& path, const std::string& content) {
+  AtomicOutputFile f(path, true);
+  f.stream().write(content.data(), static_cast<std::streamsize>(content.size()));
+  f.Commit();
+}
+
+}  // namespace dynref

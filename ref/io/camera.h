@@ -1,0 +1,33 @@
+// Pinhole RGB-D camera with Brown-Conrady distortion (OpenCV order k1 k2 p1 p2 k3),
+// as in TUM's published calibration and ORB-SLAM2's camera YAML.
+#pragma once
+#include <opencv2/core.hpp>
+#include <string>
+
+namespace dynref {
+
+struct Camera {
+  std::string name;              // preset name or YAML path it came from
+  int width = 640, height = 480;
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  double k1 = 0, k2 = 0, p1 = 0, p2 = 0, k3 = 0;
+  double depth_factor = 5000.0;  // depth PNG units per metre (TUM: 5000)
+  double bf = 40.0;              // ORB-SLAM2 Camera.bf: virtual stereo baseline * fx (px*m)
+  double th_depth = 40.0;        // ORB-SLAM2 ThDepth: close/far threshold in baselines
+
+  bool HasDistortion() const { return k1 != 0 || k2 != 0 || p1 != 0 || p2 != 0 || k3 != 0; }
+  cv::Matx33d K() const { return {fx, 0, cx, 0, fy, cy, 0, 0, 1}; }
+  cv::Mat DistCoeffs() const { return (cv::Mat_<double>(1, 5) << k1, k2, p1, p2, k3); }
+  double baseline_m() const { return bf / fx; }
+};
+
+// Presets: "tum_fr1", "tum_fr2", "tum_fr3", "bonn", "synthetic" (= TUM fr3 intrinsics, no distortion).
+// Throws InputError for an unknown name, listing the known ones.
+Camera CameraPreset(const std::string& name);
+// ORB-SLAM2 style YAML (%YAML:1.0, Camera.fx ... Camera.k3, Camera.width/height, Camera.bf,
+// ThDepth, DepthMapFactor). Missing mandatory keys are errors naming the file and key.
+Camera ReadOrbSlamCameraYaml(const std::string& path);
+// Writes the same YAML format (used by `dynref synth`), atomically.
+void WriteOrbSlamCameraYaml(const Camera& camera, const std::string& path);
+
+}  // namespace dynref
