@@ -24,6 +24,8 @@ struct Camera {
 // Presets: "tum_fr1", "tum_fr2", "tum_fr3", "bonn", "synthetic" (= TUM fr3 intrinsics, no distortion).
 // Throws InputError for an unknown name, listing the known ones.
 Camera CameraPreset(const std::string& name);
+// True for the preset names CameraPreset accepts.
+bool IsCameraPresetName(const std::string& name);
 // ORB-SLAM2 style YAML (%YAML:1.0, Camera.fx ... Camera.k3, Camera.width/height, Camera.bf,
 // ThDepth, DepthMapFactor). Missing mandatory keys are errors naming the file and key.
 Camera ReadOrbSlamCameraYaml(const std::string& path);

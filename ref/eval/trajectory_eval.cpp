@@ -1,0 +1,124 @@
+#include "eval/trajectory_eval.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "core/format.h"
+
+namespace dynref {
+
+void AteOptions::Check() const {
+  if (!(max_difference_s > 0) || !std::isfinite(max_difference_s))
+    throw InputError("--max-diff", "must be a finite number > 0, got " +
+                                       FormatDouble17(max_difference_s));
+}
+
+const char* DeltaUnitName(DeltaUnit unit) { return unit == DeltaUnit::kSeconds ? "s" : "f"; }
+
+void RpeOptions::Check() const {
+  if (!(delta > 0) || !std::isfinite(delta))
+    throw InputError("--delta", "must be a finite number > 0, got " + FormatDouble17(delta));
+}
+
+AteResult ComputeAte(const TumTrajectory& gt, const TumTrajectory& est,
+                     const AteOptions& options) {
+  options.Check();
+  AteResult r;
+  r.matches = Associate(options.association, gt.Stamps(), est.Stamps(), options.max_difference_s);
+  if (r.matches.empty())
+    throw InputError(est.path, "zero associated pairs with ground truth " + gt.path + " within " +
+                                   FormatDouble17(options.max_difference_s) +
+                                   " s (association " +
+                                   AssociationKindName(options.association) + ")");
+  std::vector<Eigen::Vector3d> p_est, p_gt;
+  for (const StampMatch& m : r.matches) {
+    p_gt.push_back(gt.poses[m.first].T_wc.translation());
+    p_est.push_back(est.poses[m.second].T_wc.translation());
+  }
+  if (options.align != AlignMode::kNone && r.matches.size() < 3)
+    throw InputError(est.path, "only " + std::to_string(r.matches.size()) +
+                                   " associated pair(s) with " + gt.path + "; alignment " +
+                                   AlignModeName(options.align) + " needs at least 3");
+  r.alignment = AlignPoints(p_est, p_gt, options.align);
+  for (size_t k = 0; k < p_est.size(); ++k)
+    r.errors_m.push_back((r.alignment.Apply(p_est[k]) - p_gt[k]).norm());
+  r.stats = ComputeErrorStats(r.errors_m);
+  return r;
+}
+
+size_t TumFindClosestIndex(const std::vector<double>& L, double t) {
+  size_t beginning = 0, end = L.size(), best = 0;
+  double difference = std::abs(L[0] - t);
+  while (beginning < end) {
+    const size_t middle = (end + beginning) / 2;
+    if (std::abs(L[middle] - t) < difference) {
+      difference = std::abs(L[middle] - t);
+      best = middle;
+    }
+    if (t == L[middle]) return middle;
+    if (L[middle] > t)
+      end = middle;
+    else
+      beginning = middle + 1;
+  }
+  return best;
+}
+
+RpeResult ComputeRpeTum(const TumTrajectory& gt, const TumTrajectory& est,
+                        const RpeOptions& options) {
+  options.Check();
+  const std::vector<double> stamps_gt = gt.Stamps(), stamps_est = est.Stamps();
+  if (stamps_gt.size() < 2 || stamps_est.size() < 2)
+    throw InputError(stamps_gt.size() < 2 ? gt.path : est.path,
+                     "RPE needs at least 2 poses in each trajectory");
+  for (size_t k = 1; k < stamps_gt.size(); ++k)
+    if (!(stamps_gt[k] > stamps_gt[k - 1]))
+      throw InputError(gt.path, "RPE needs strictly increasing stamps (duplicates collapsed)");
+  RpeResult r;
+  // gt_interval = numpy.median of consecutive differences.
+  std::vector<double> intervals;
+  for (size_t k = 1; k < stamps_gt.size(); ++k) intervals.push_back(stamps_gt[k] - stamps_gt[k - 1]);
+  std::sort(intervals.begin(), intervals.end());
+  const size_t m = intervals.size() / 2;
+  r.gt_median_interval_s =
+      intervals.size() % 2 ? intervals[m] : 0.5 * (intervals[m - 1] + intervals[m]);
+  r.gt_max_time_difference_s = 2 * r.gt_median_interval_s;
+
+  std::vector<double> index_est;  // TUM: stamps for unit s, range(len) for unit f
+  for (size_t i = 0; i < stamps_est.size(); ++i)
+    index_est.push_back(options.unit == DeltaUnit::kSeconds ? stamps_est[i]
+                                                            : static_cast<double>(i));
+  const size_t last = stamps_est.size() - 1;
+  std::vector<double> trans, rot_deg;
+  for (size_t i = 0; i < stamps_est.size(); ++i) {
+    const size_t j = TumFindClosestIndex(index_est, index_est[i] + options.delta);
+    if (j == last) continue;
+    ++r.candidate_pairs;
+    RpePair p;
+    p.est_0 = i;
+    p.est_1 = j;
+    p.gt_0 = TumFindClosestIndex(stamps_gt, stamps_est[i]);
+    p.gt_1 = TumFindClosestIndex(stamps_gt, stamps_est[j]);
+    if (std::abs(stamps_gt[p.gt_0] - stamps_est[i]) > r.gt_max_time_difference_s ||
+        std::abs(stamps_gt[p.gt_1] - stamps_est[j]) > r.gt_max_time_difference_s)
+      continue;
+    const SE3 d_est = est.poses[i].T_wc.inverse() * est.poses[j].T_wc;
+    const SE3 d_gt = gt.poses[p.gt_0].T_wc.inverse() * gt.poses[p.gt_1].T_wc;
+    const SE3 error = d_est * d_gt.inverse();
+    p.trans_m = error.translation().norm();
+    p.rot_rad = RotationAngleRad(error.linear());
+    r.pairs.push_back(p);
+    trans.push_back(p.trans_m);
+    rot_deg.push_back(p.rot_rad * 180.0 / M_PI);
+  }
+  if (r.pairs.size() < 2)
+    throw InputError(est.path, "only " + std::to_string(r.pairs.size()) +
+                                   " RPE pair(s) with ground truth " + gt.path +
+                                   " (need 2; do the stamps overlap?)");
+  r.trans_m = ComputeErrorStats(trans);
+  r.rot_deg = ComputeErrorStats(rot_deg);
+  return r;
+}
+
+}  // namespace dynref

@@ -1,0 +1,106 @@
+#include <catch2/catch.hpp>
+
+#include <fstream>
+
+#include "core/error.h"
+#include "io/camera.h"
+#include "test_support.h"
+
+using namespace dynref;
+
+TEST_CASE("camera: presets carry the published calibrations") {
+  const Camera fr1 = CameraPreset("tum_fr1");
+  CHECK(fr1.fx == 517.3);
+  CHECK(fr1.fy == 516.5);
+  CHECK(fr1.cx == 318.6);
+  CHECK(fr1.cy == 255.3);
+  CHECK(fr1.k1 == 0.2624);
+  CHECK(fr1.k2 == -0.9531);
+  CHECK(fr1.p1 == -0.0054);
+  CHECK(fr1.p2 == 0.0026);
+  CHECK(fr1.k3 == 1.1633);
+  CHECK(fr1.depth_factor == 5000.0);
+  const Camera fr2 = CameraPreset("tum_fr2");
+  CHECK(fr2.fx == 520.9);
+  CHECK(fr2.cy == 249.7);
+  CHECK(fr2.k3 == 0.9172);
+  const Camera fr3 = CameraPreset("tum_fr3");
+  CHECK(fr3.fx == 535.4);
+  CHECK(!fr3.HasDistortion());
+  const Camera bonn = CameraPreset("bonn");
+  CHECK(bonn.fx == 542.822841);
+  CHECK(bonn.fy == 542.576870);
+  CHECK(bonn.cx == 315.593520);
+  CHECK(bonn.cy == 237.756098);
+  CHECK(bonn.k1 == 0.039903);
+  CHECK(bonn.k2 == -0.099343);
+  CHECK(bonn.p1 == -0.000730);
+  CHECK(bonn.p2 == -0.000144);
+  CHECK(bonn.k3 == 0.0);
+  CHECK(bonn.depth_factor == 5000.0);
+  const Camera syn = CameraPreset("synthetic");
+  CHECK(syn.fx == 535.4);
+  CHECK(syn.fy == 539.2);
+  CHECK(syn.cx == 320.1);
+  CHECK(syn.cy == 247.6);
+  CHECK(!syn.HasDistortion());
+  CHECK(syn.width == 640);
+  CHECK(syn.height == 480);
+  CHECK_THROWS_AS(CameraPreset("tum_fr4"), InputError);
+  CHECK(IsCameraPresetName("bonn"));
+  CHECK(!IsCameraPresetName("Bonn"));
+}
+
+TEST_CASE("camera: ORB-SLAM2 YAML round trip and missing keys") {
+  const std::string dir = test::ScratchDir("io_camera_yaml");
+  Camera c = CameraPreset("tum_fr2");
+  c.width = 320;
+  c.height = 240;
+  c.bf = 41.5;
+  c.th_depth = 35.0;
+  c.depth_factor = 1000.0;
+  WriteOrbSlamCameraYaml(c, dir + "/camera.yaml");
+  const Camera r = ReadOrbSlamCameraYaml(dir + "/camera.yaml");
+  CHECK(r.fx == c.fx);
+  CHECK(r.fy == c.fy);
+  CHECK(r.cx == c.cx);
+  CHECK(r.cy == c.cy);
+  CHECK(r.k1 == c.k1);
+  CHECK(r.k2 == c.k2);
+  CHECK(r.p1 == c.p1);
+  CHECK(r.p2 == c.p2);
+  CHECK(r.k3 == c.k3);
+  CHECK(r.width == 320);
+  CHECK(r.height == 240);
+  CHECK(r.bf == 41.5);
+  CHECK(r.th_depth == 35.0);
+  CHECK(r.depth_factor == 1000.0);
+
+  // An ORB-SLAM2 TUM1.yaml as distributed (no width/height keys would also be accepted).
+  {
+    std::ofstream f(dir + "/TUM1.yaml");
+    f << "%YAML:1.0\nCamera.fx: 517.306408\nCamera.fy: 516.469215\nCamera.cx: 318.643040\n"
+         "Camera.cy: 255.313989\nCamera.k1: 0.262383\nCamera.k2: -0.953104\n"
+         "Camera.p1: -0.005358\nCamera.p2: 0.002628\nCamera.k3: 1.163314\n"
+         "Camera.width: 640\nCamera.height: 480\nCamera.fps: 30.0\nCamera.bf: 40.0\n"
+         "Camera.RGB: 1\nThDepth: 40.0\nDepthMapFactor: 5000.0\n";
+  }
+  const Camera t1 = ReadOrbSlamCameraYaml(dir + "/TUM1.yaml");
+  CHECK(t1.fx == 517.306408);
+  CHECK(t1.k3 == 1.163314);
+  CHECK(t1.depth_factor == 5000.0);
+
+  {
+    std::ofstream f(dir + "/nofx.yaml");
+    f << "%YAML:1.0\nCamera.fy: 516.5\nCamera.cx: 318.6\nCamera.cy: 255.3\nCamera.k1: 0\n"
+         "Camera.k2: 0\nCamera.p1: 0\nCamera.p2: 0\nDepthMapFactor: 5000.0\n";
+  }
+  try {
+    ReadOrbSlamCameraYaml(dir + "/nofx.yaml");
+    FAIL("no error for a missing key");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("nofx.yaml") != std::string::npos);
+    CHECK(std::string(e.what()).find("Camera.fx") != std::string::npos);
+  }
+  CHECK_THROWS_AS(ReadOrbSlamCameraYaml(dir + "/missing.yaml"), InputError);
+}
