@@ -50,6 +50,7 @@ struct RunHeader {
   std::string sequence_path;
   std::vector<std::pair<std::string, std::string>> input_hashes;  // (file, sha256), sorted by file
   std::string detector_source;  // e.g. "none", "synthetic:yolo-like", "nanodet sha256:..."
+  std::string detections_dir;   // detections folder used (empty if none); read by overlays
 };
 
 class TraceWriter {

@@ -1,0 +1,23 @@
+// `dynref trace feature RUN ID`: every record in a trace that concerns one feature or map point.
+#pragma once
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "trace/trace_reader.h"
+
+namespace dynref::trace {
+
+struct FeatureHistory {
+  std::string id;
+  std::vector<FlatRecord> rows;  // processing order (frames ascending, file order within)
+};
+
+// Matches: records whose entity is `id` or starts with "<id>@" (residual observation ids); for
+// "mp<N>", observations matched to map point N and every record of those feature observations
+// ("f<frame>.<index>") in the same frame; for "f<frame>.<index>", the observation itself.
+FeatureHistory CollectFeatureHistory(TraceReader& reader, const std::string& id);
+// CSV table: frame,type,stage,kind,entity,occurrence,fields ("name=value" separated by spaces).
+void WriteFeatureTable(const FeatureHistory& history, std::ostream& out);
+
+}  // namespace dynref::trace

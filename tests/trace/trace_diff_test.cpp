@@ -1,0 +1,192 @@
+// dynref diff: identical, perturbed, missing/extra, reordered, truncated, other schema version.
+#include <catch2/catch.hpp>
+#include <algorithm>
+#include <fstream>
+
+#include "test_support.h"
+#include "trace/trace_diff.h"
+#include "trace/trace_reader.h"
+#include "trace_sample.h"
+
+using namespace dynref::trace;
+using dynref::test::RunDynref;
+using dynref::test::SampleTweak;
+using dynref::test::WriteSampleTrace;
+
+namespace {
+std::string Sample(const std::string& dir, const std::string& name, const SampleTweak& t = {}) {
+  const std::string p = dir + "/" + name;
+  WriteSampleTrace(p, t);
+  return p;
+}
+}  // namespace
+
+TEST_CASE("diff of identical traces exits 0") {
+  const std::string dir = dynref::test::ScratchDir("diff_identical");
+  const std::string a = Sample(dir, "a.dtr"), b = Sample(dir, "b.dtr");
+  CHECK(DiffTraces(a, b, {}).ExitCode() == 0);
+  const auto r = RunDynref("diff '" + a + "' '" + b + "'");
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("MATCH") != std::string::npos);
+}
+
+TEST_CASE("a float perturbed beyond tolerance is the first divergence; within tolerance passes") {
+  const std::string dir = dynref::test::ScratchDir("diff_perturbed");
+  SampleTweak t;
+  t.after_delta = 1e-6;
+  const std::string a = Sample(dir, "a.dtr"), b = Sample(dir, "b.dtr", t);
+  const DiffResult d = DiffTraces(a, b, {});
+  CHECK(d.ExitCode() == 1);
+  REQUIRE(d.divergences.size() == 1);
+  const Divergence& first = d.divergences.front();
+  CHECK(first.frame == 1);
+  CHECK(first.stage == "mgd.temporal");
+  CHECK(first.entity == "mp7");
+  CHECK(first.field == "after");
+  CHECK(first.expected == "0.27666666666666667");
+  CHECK(d.stages.at("mgd.temporal").differ == 1);
+  CHECK(d.field_errors.at("after").max_abs == Approx(1e-6));
+  DiffOptions loose;
+  loose.abs_tol = 1e-5;
+  CHECK(DiffTraces(a, b, loose).ExitCode() == 0);
+  DiffOptions per_field;
+  per_field.AddFieldTolerance("after=2e-6");
+  CHECK(DiffTraces(a, b, per_field).ExitCode() == 0);
+  const auto r = RunDynref("diff '" + a + "' '" + b + "' --rel 1e-9");
+  CHECK(r.exit_code == 1);
+  CHECK(r.output.find("first divergence: frame 1, stage mgd.temporal, prob map_point mp7, field "
+                      "after") != std::string::npos);
+  CHECK(RunDynref("diff '" + a + "' '" + b + "' --tol after=1e-5").exit_code == 0);
+}
+
+TEST_CASE("missing and extra records are reported with per-stage counts") {
+  const std::string dir = dynref::test::ScratchDir("diff_missing_extra");
+  SampleTweak drop, extra;
+  drop.drop_decision = true;
+  extra.extra_decision = true;
+  const std::string a = Sample(dir, "a.dtr"), b = Sample(dir, "b.dtr", drop),
+                    c = Sample(dir, "c.dtr", extra);
+  const DiffResult missing = DiffTraces(a, b, {});
+  CHECK(missing.ExitCode() == 1);
+  REQUIRE(!missing.divergences.empty());
+  CHECK(missing.divergences.front().kind == DivergenceKind::kMissing);
+  CHECK(missing.divergences.front().entity == "f1.2");
+  CHECK(missing.stages.at("sgdo.epipolar").missing == 1);
+  const DiffResult added = DiffTraces(a, c, {});
+  CHECK(added.ExitCode() == 1);
+  REQUIRE(added.divergences.size() == 1);
+  CHECK(added.divergences.front().kind == DivergenceKind::kExtra);
+  CHECK(added.divergences.front().entity == "f1.9");
+  CHECK(added.stages.at("sgdo.epipolar").extra == 1);
+}
+
+TEST_CASE("records in another order within a frame still match by key") {
+  const std::string dir = dynref::test::ScratchDir("diff_reordered");
+  SampleTweak rev;
+  rev.reverse_frame1 = true;
+  const std::string a = Sample(dir, "a.dtr"), b = Sample(dir, "b.dtr", rev);
+  // reverse_frame1 also writes mp7's frame-1 value without the +0.01 offset: one difference.
+  const DiffResult d = DiffTraces(a, b, {});
+  REQUIRE(d.divergences.size() == 1);
+  CHECK(d.divergences.front().entity == "mp7");
+  CHECK(d.stages.at("mgd.temporal").missing == 0);
+  CHECK(d.stages.at("mgd.temporal").extra == 0);
+}
+
+TEST_CASE("truncated trace and other schema version exit 2 naming the problem") {
+  const std::string dir = dynref::test::ScratchDir("diff_bad_files");
+  const std::string a = Sample(dir, "a.dtr");
+  std::string bytes;
+  {
+    std::ifstream f(a, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  }
+  {
+    std::ofstream f(dir + "/cut.dtr", std::ios::binary);
+    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
+  }
+  std::string v2 = bytes;
+  v2[8] = 2;
+  {
+    std::ofstream f(dir + "/v2.dtr", std::ios::binary);
+    f.write(v2.data(), static_cast<std::streamsize>(v2.size()));
+  }
+  try {
+    TraceReader r(dir + "/cut.dtr");
+    FAIL("truncated trace accepted");
+  } catch (const TraceError& e) {
+    CHECK(e.problem() == TraceProblem::kTruncated);
+  }
+  try {
+    TraceReader r(dir + "/v2.dtr");
+    FAIL("schema version 2 accepted");
+  } catch (const TraceError& e) {
+    CHECK(e.problem() == TraceProblem::kSchemaVersion);
+  }
+  const auto cut = RunDynref("diff '" + a + "' '" + dir + "/cut.dtr'");
+  CHECK(cut.exit_code == 2);
+  CHECK(cut.output.find("cut.dtr: truncated") != std::string::npos);
+  const auto ver = RunDynref("diff '" + dir + "/v2.dtr' '" + a + "'");
+  CHECK(ver.exit_code == 2);
+  CHECK(ver.output.find("schema version 2") != std::string::npos);
+  CHECK(RunDynref("diff '" + a + "' '" + dir + "/nope.dtr'").exit_code == 2);
+  CHECK(RunDynref("trace dump '" + dir + "/cut.dtr'").exit_code == 2);
+}
+
+TEST_CASE("a corrupt record inside the body exits 2 naming the problem") {
+  const std::string dir = dynref::test::ScratchDir("diff_corrupt");
+  const std::string a = Sample(dir, "a.dtr");
+  uint64_t offset = 0;
+  {
+    TraceReader r(a);
+    offset = r.groups().at(1).offset;  // the FRAME record of frame 1
+  }
+  std::string bytes;
+  {
+    std::ifstream f(a, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  }
+  bytes[offset] = 0x55;  // unknown record tag
+  {
+    std::ofstream f(dir + "/bad.dtr", std::ios::binary);
+    f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  }
+  TraceReader r(dir + "/bad.dtr");  // header and footer are intact
+  CHECK_NOTHROW(r.ReadGroup(0));
+  try {
+    r.ReadGroup(1);
+    FAIL("corrupt group accepted");
+  } catch (const TraceError& e) {
+    CHECK(e.problem() == TraceProblem::kCorrupt);
+  }
+  const auto d = RunDynref("diff '" + a + "' '" + dir + "/bad.dtr'");
+  CHECK(d.exit_code == 2);
+  CHECK(d.output.find("corrupt: unknown record tag 85") != std::string::npos);
+}
+
+TEST_CASE("a canonical JSONL trace (another implementation's text output) diffs against a binary one") {
+  const std::string dir = dynref::test::ScratchDir("diff_jsonl");
+  const std::string a = Sample(dir, "a.dtr");
+  REQUIRE(RunDynref("trace dump '" + a + "' --format jsonl > '" + dir + "/same.jsonl'").exit_code == 0);
+  const DiffResult same = DiffTraces(a, dir + "/same.jsonl", {});
+  CHECK(same.ExitCode() == 0);
+  // Reverse the records of each frame except the FRAME record, and perturb one value.
+  std::ifstream in(dir + "/same.jsonl");
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  std::reverse(lines.begin(), lines.end());
+  std::string text;
+  for (std::string l : lines) {
+    const std::string from = "\"entity\":\"mp9\",\"occurrence\":0,\"fields\":{\"in.d_px\":0.69999999999999996";
+    if (l.find(from) != std::string::npos) l.replace(l.find(from), from.size(), from.substr(0, from.size() - 19) + "0.70000000000000007");
+    text += l + "\n";
+  }
+  std::ofstream(dir + "/changed.jsonl") << text;
+  const DiffResult d = DiffTraces(a, dir + "/changed.jsonl", {});
+  REQUIRE(d.divergences.size() == 1);
+  CHECK(d.divergences[0].frame == 0);
+  CHECK(d.divergences[0].entity == "mp9");
+  CHECK(d.divergences[0].field == "in.d_px");
+  std::ofstream(dir + "/broken.jsonl") << "{\"frame\":0,\"type\":\"prob\"\n";
+  CHECK(RunDynref("diff '" + a + "' '" + dir + "/broken.jsonl'").exit_code == 2);
+}
