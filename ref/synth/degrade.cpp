@@ -1,0 +1,198 @@
+#include "synth/degrade.h"
+
+#include <opencv2/imgproc.hpp>
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+#include "io/coco_classes.h"
+#include "synth/humanoid.h"
+#include "synth/texture.h"
+
+namespace dynref::synth {
+namespace {
+
+struct Stats {
+  int area = 0;
+  int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+  double depth_sum = 0;
+};
+
+std::map<int, Stats> InstanceStats(const GtFrame& gt) {
+  std::map<int, Stats> out;
+  for (int y = 0; y < gt.instance_ids.rows; ++y) {
+    const uint16_t* row = gt.instance_ids.ptr<uint16_t>(y);
+    const float* z = gt.depth_m.empty() ? nullptr : gt.depth_m.ptr<float>(y);
+    for (int x = 0; x < gt.instance_ids.cols; ++x) {
+      if (row[x] == 0) continue;
+      Stats& s = out[row[x]];
+      ++s.area;
+      s.x0 = std::min(s.x0, x), s.x1 = std::max(s.x1, x), s.y0 = std::min(s.y0, y), s.y1 = std::max(s.y1, y);
+      if (z) s.depth_sum += double(z[x]);
+    }
+  }
+  return out;
+}
+
+// Confusable COCO classes (what a detector plausibly outputs instead).
+int Confuse(int coco_id, Rng& rng) {
+  switch (coco_id) {
+    case 0: return rng.Bernoulli(0.5) ? 77 : 27;   // person -> teddy_bear / tie
+    case 56: return rng.Bernoulli(0.5) ? 57 : 13;  // chair -> sofa / bench
+    case 62: return 63;                            // tvmonitor -> laptop
+    case 63: return 62;                            // laptop -> tvmonitor
+    case 66: return 63;                            // keyboard -> laptop
+    case 73: return 65;                            // book -> remote
+    case 60: return 59;                            // diningtable -> bed
+    case 41: return 39;                            // cup -> bottle
+    case 58: return 46;                            // pottedplant -> broccoli
+    case 64: return 65;                            // mouse -> remote
+    default: return coco_id;
+  }
+}
+
+struct Record {
+  DetectedInstance det;
+  cv::Mat mask;   // full-size CV_8U, 255 inside
+  double depth = 0;
+  int gt_id = 0;
+  bool false_positive = false;
+};
+
+cv::Mat JitterBoundary(const cv::Mat& mask, int jitter_px, uint32_t key, Rng& rng) {
+  if (jitter_px <= 0) return mask;
+  const cv::Mat k = cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * jitter_px + 1, 2 * jitter_px + 1));
+  cv::Mat dil, ero;
+  cv::dilate(mask, dil, k);
+  cv::erode(mask, ero, k);
+  const float threshold = float(rng.Uniform(0.35, 0.65));  // < 0.5 grows, > 0.5 shrinks on average
+  cv::Mat out = ero.clone();
+  for (int y = 0; y < mask.rows; ++y) {
+    const uint8_t* d = dil.ptr<uint8_t>(y);
+    const uint8_t* e = ero.ptr<uint8_t>(y);
+    uint8_t* o = out.ptr<uint8_t>(y);
+    for (int x = 0; x < mask.cols; ++x)
+      if (d[x] && !e[x] && ValueNoise(float(x) / 7.f, float(y) / 7.f, key) > threshold) o[x] = 255;
+  }
+  return out;
+}
+
+void BoxFromMask(const cv::Mat& mask, int jitter, Rng& rng, DetectedInstance* d) {
+  const cv::Rect r = cv::boundingRect(mask);
+  const auto j = [&] { return jitter > 0 ? double(rng.UniformInt(-jitter, jitter)) : 0.0; };
+  d->x_min = std::max(0.0, r.x + j());
+  d->y_min = std::max(0.0, r.y + j());
+  d->x_max = std::min(double(mask.cols - 1), std::max(d->x_min, r.x + r.width - 1 + j()));
+  d->y_max = std::min(double(mask.rows - 1), std::max(d->y_min, r.y + r.height - 1 + j()));
+}
+
+}  // namespace
+
+DegradeProfile ProfileFor(const std::string& mode) {
+  DegradeProfile p;
+  p.name = mode;
+  if (mode == "ideal") return p;
+  if (mode == "yolo-like") {
+    p.miss_enter = 0.03, p.miss_stay = 0.7, p.blur_miss_factor = 3.0, p.small_miss = 0.15;
+    p.min_area_px = 300, p.boundary_jitter_px = 4, p.limb_drop = 0.15, p.false_positive = 0.08;
+    p.confusion = 0.05, p.person_confusion = 0.01, p.box_jitter_px = 3, p.conf_lo = 0.5, p.conf_hi = 0.95;
+    return p;
+  }
+  if (mode == "sparseinst-like") {
+    p.miss_enter = 0.02, p.miss_stay = 0.6, p.blur_miss_factor = 3.0, p.small_miss = 0.1;
+    p.min_area_px = 200, p.boundary_jitter_px = 2, p.limb_drop = 0.25, p.false_positive = 0.05;
+    p.confusion = 0.03, p.person_confusion = 0.005, p.box_jitter_px = 1, p.conf_lo = 0.55, p.conf_hi = 0.98;
+    return p;
+  }
+  throw InputError("--detections", "unknown mode '" + mode + "' (none, ideal, yolo-like, sparseinst-like, all)");
+}
+
+FrameDetections GtDetections(const GtFrame& gt, const std::map<int, InstanceLabel>& labels) {
+  FrameDetections f;
+  f.stamp_text = gt.stamp_text;
+  f.instance_ids = gt.instance_ids;
+  for (const auto& [id, s] : InstanceStats(gt)) {
+    const auto it = labels.find(id);
+    DetectedInstance d;
+    d.id = id;
+    d.class_id = it == labels.end() ? -1 : it->second.coco_id;
+    d.class_name = it == labels.end() ? "unknown" : it->second.class_name;
+    d.confidence = 1.0;
+    d.x_min = s.x0, d.y_min = s.y0, d.x_max = s.x1, d.y_max = s.y1;
+    d.has_mask = true;
+    f.instances.push_back(d);
+  }
+  return f;
+}
+
+Degrader::Degrader(const DegradeProfile& profile, const std::map<int, InstanceLabel>& labels, uint64_t seed, bool blur)
+    : p_(profile), labels_(labels), seed_(seed), blur_(blur) {}
+
+FrameDetections Degrader::Apply(int frame_index, const GtFrame& gt) {
+  Rng rng(seed_, "synth.detections." + p_.name + "." + std::to_string(frame_index));
+  const auto stats = InstanceStats(gt);
+  std::vector<Record> recs;
+  std::vector<int> static_candidates;
+  for (const auto& [id, s] : stats) {
+    const auto lit = labels_.find(id);
+    if (lit == labels_.end() || lit->second.coco_id < 0) continue;  // detectors only know COCO classes
+    const InstanceLabel& label = lit->second;
+    if (!label.prior_dynamic && s.area > 2000) static_candidates.push_back(id);
+    if (s.area < p_.min_area_px) continue;
+    bool& missed = missed_[id];
+    missed = missed ? rng.Bernoulli(p_.miss_stay) : rng.Bernoulli(p_.miss_enter * (blur_ ? p_.blur_miss_factor : 1.0));
+    const bool small_miss = s.area < p_.small_area_px && rng.Bernoulli(p_.small_miss);
+    if (missed || small_miss) continue;
+    Record r;
+    r.gt_id = id;
+    r.depth = s.depth_sum / s.area;
+    r.mask = gt.instance_ids == id;
+    if (label.coco_id == 0 && rng.Bernoulli(p_.limb_drop)) {
+      const int limbs[4] = {kForearmL, kForearmR, kShinL, kShinR};
+      const int limb = limbs[rng.UniformInt(0, 3)];
+      r.mask.setTo(0, gt.body_part == limb);
+      if (rng.Bernoulli(0.3)) r.mask.setTo(0, gt.body_part == limb - 2);  // upper arm / thigh too
+    }
+    r.mask = JitterBoundary(r.mask, p_.boundary_jitter_px, uint32_t(rng.NextU64()), rng);
+    if (cv::countNonZero(r.mask) == 0) continue;
+    r.det.class_id = label.coco_id;
+    if (rng.Bernoulli(label.coco_id == 0 ? p_.person_confusion : p_.confusion)) r.det.class_id = Confuse(label.coco_id, rng);
+    r.det.class_name = CocoClassName(r.det.class_id);
+    r.det.confidence = p_.name == "ideal" ? 1.0 : rng.Uniform(p_.conf_lo, p_.conf_hi) * (s.area < p_.small_area_px ? 0.8 : 1.0);
+    recs.push_back(std::move(r));
+  }
+  if (!static_candidates.empty() && rng.Bernoulli(p_.false_positive)) {
+    Record r;
+    r.gt_id = static_candidates[size_t(rng.UniformInt(0, int64_t(static_candidates.size()) - 1))];
+    r.false_positive = true;
+    r.depth = 1e9;  // painted first: any true detection overlapping it wins
+    r.mask = JitterBoundary(gt.instance_ids == r.gt_id, p_.boundary_jitter_px, uint32_t(rng.NextU64()), rng);
+    r.det.class_id = rng.Bernoulli(0.6) ? 0 : Confuse(labels_.at(r.gt_id).coco_id, rng);
+    r.det.class_name = CocoClassName(r.det.class_id);
+    r.det.confidence = rng.Uniform(0.25, 0.45);
+    if (cv::countNonZero(r.mask) > 0) recs.push_back(std::move(r));
+  }
+  // Frame-local ids: ideal keeps the GT ids; degraded modes number 1..n (GT id order, false
+  // positive last) as a network would.
+  for (size_t i = 0; i < recs.size(); ++i) recs[i].det.id = p_.name == "ideal" ? recs[i].gt_id : int(i + 1);
+  FrameDetections f;
+  f.stamp_text = gt.stamp_text;
+  f.instance_ids = cv::Mat::zeros(gt.instance_ids.size(), CV_16U);
+  std::vector<size_t> order(recs.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return recs[a].depth != recs[b].depth ? recs[a].depth > recs[b].depth : recs[a].gt_id < recs[b].gt_id;
+  });
+  for (size_t i : order) f.instance_ids.setTo(recs[i].det.id, recs[i].mask);
+  for (Record& r : recs) {
+    if (cv::countNonZero(f.instance_ids == r.det.id) == 0) continue;  // fully overpainted
+    BoxFromMask(f.instance_ids == r.det.id, p_.box_jitter_px, rng, &r.det);
+    r.det.has_mask = true;
+    f.instances.push_back(r.det);
+  }
+  std::sort(f.instances.begin(), f.instances.end(),
+            [](const DetectedInstance& a, const DetectedInstance& b) { return a.id < b.id; });
+  return f;
+}
+
+}  // namespace dynref::synth

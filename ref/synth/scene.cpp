@@ -1,0 +1,280 @@
+#include "synth/scene.h"
+
+#include <cmath>
+
+#include "core/rng.h"
+#include "io/coco_classes.h"
+
+namespace dynref::synth {
+namespace {
+
+using Eigen::Vector3f;
+using V = Vector3f;
+
+Rgb C(float r, float g, float b) { return {r, g, b}; }
+
+Material Mat(Pattern p, Rgb c0, Rgb c1, Rgb c2, float scale, Rng& rng, float emission = 0.f) {
+  Material m;
+  m.pattern = p, m.c0 = c0, m.c1 = c1, m.c2 = c2, m.scale = scale, m.emission = emission;
+  m.seed = uint32_t(rng.NextU64());
+  return m;
+}
+
+// Quad in the plane y = y0 spanning x0..x1, z0..z1 (posters on walls facing +-y).
+void QuadY(Mesh* m, float y0, float x0, float x1, float z0, float z1, int mat, int inst) {
+  m->AddQuad(V(x0, y0, z0), V(x1, y0, z0), V(x1, y0, z1), V(x0, y0, z1), mat, inst, {x0, z0});
+}
+void QuadX(Mesh* m, float x0, float y0, float y1, float z0, float z1, int mat, int inst) {
+  m->AddQuad(V(x0, y0, z0), V(x0, y1, z0), V(x0, y1, z1), V(x0, y0, z1), mat, inst, {y0, z0});
+}
+void QuadZ(Mesh* m, float z0, float x0, float x1, float y0, float y1, int mat, int inst) {
+  m->AddQuad(V(x0, y0, z0), V(x1, y0, z0), V(x1, y1, z0), V(x0, y1, z0), mat, inst, {x0, y0});
+}
+
+}  // namespace
+
+int Scene::AddMaterial(const Material& m) {
+  materials.push_back(m);
+  return int(materials.size()) - 1;
+}
+
+int Scene::AddLabel(int id, int coco_id, const std::string& name_if_not_coco) {
+  InstanceLabel l;
+  l.coco_id = coco_id;
+  l.class_name = coco_id >= 0 ? CocoClassName(coco_id) : name_if_not_coco;
+  l.prior_dynamic = coco_id >= 0 && CocoIsPriorDynamic(coco_id);
+  labels[id] = l;
+  return id;
+}
+
+void BuildOffice(uint64_t seed, Scene* s) {
+  Rng rng(seed, "synth.scene");
+  Mesh& m = s->static_mesh;
+  const Rgb white = C(0.85f, 0.85f, 0.82f), dark = C(0.06f, 0.06f, 0.07f);
+  const int carpet = s->AddMaterial(Mat(Pattern::kCarpet, C(0.32f, 0.32f, 0.36f), C(0.42f, 0.38f, 0.34f), dark, 0.5f, rng));
+  const int ceiling = s->AddMaterial(Mat(Pattern::kCeiling, C(0.8f, 0.8f, 0.78f), C(0.55f, 0.55f, 0.55f), dark, 0.6f, rng));
+  const int light = s->AddMaterial(Mat(Pattern::kLight, C(1, 1, 0.97f), C(0.6f, 0.6f, 0.6f), dark, 0.3f, rng, 3.0f));
+  const int wall = s->AddMaterial(Mat(Pattern::kPaint, C(0.78f, 0.75f, 0.68f), white, dark, 1, rng));
+  const int wall2 = s->AddMaterial(Mat(Pattern::kPaint, C(0.62f, 0.70f, 0.74f), white, dark, 1, rng));
+  const int beam = s->AddMaterial(Mat(Pattern::kMetal, C(0.65f, 0.65f, 0.66f), white, dark, 1, rng));
+  const int fabric = s->AddMaterial(Mat(Pattern::kFabric, C(0.30f, 0.36f, 0.45f), white, dark, 1, rng));
+  const int frame = s->AddMaterial(Mat(Pattern::kMetal, C(0.5f, 0.5f, 0.52f), white, dark, 1, rng));
+  const int wood = s->AddMaterial(Mat(Pattern::kWood, C(0.62f, 0.45f, 0.28f), C(0.42f, 0.28f, 0.16f), dark, 1, rng));
+  const int plastic = s->AddMaterial(Mat(Pattern::kFlat, C(0.08f, 0.08f, 0.09f), white, dark, 1, rng));
+  const int grey = s->AddMaterial(Mat(Pattern::kFlat, C(0.55f, 0.56f, 0.58f), white, dark, 1, rng));
+  const int board = s->AddMaterial(Mat(Pattern::kWhiteboard, C(0.93f, 0.93f, 0.92f), C(0.1f, 0.15f, 0.6f), C(0.7f, 0.1f, 0.1f), 1, rng));
+  const int keys = s->AddMaterial(Mat(Pattern::kKeyboard, C(0.2f, 0.2f, 0.22f), C(0.03f, 0.03f, 0.03f), C(0.85f, 0.85f, 0.85f), 1, rng));
+  const int spines = s->AddMaterial(Mat(Pattern::kSpines, C(0.12f, 0.1f, 0.08f), C(0.9f, 0.88f, 0.8f), C(0.8f, 0.7f, 0.1f), 0.035f, rng));
+  const int binders = s->AddMaterial(Mat(Pattern::kSpines, C(0.1f, 0.1f, 0.1f), white, dark, 0.07f, rng));
+  const int plant = s->AddMaterial(Mat(Pattern::kPrint, C(0.12f, 0.35f, 0.12f), C(0.05f, 0.2f, 0.05f), C(0.3f, 0.55f, 0.2f), 0.05f, rng));
+  int id = kFirstStaticId;
+
+  // Room shell: x in [-2.8, 2.8], y in [-2.6, 2.45], z in [0, 2.7].
+  const float X0 = -2.8f, X1 = 2.8f, Y0 = -2.6f, Y1 = 2.45f, H = 2.7f;
+  QuadZ(&m, 0, X0, X1, Y0, Y1, carpet, 0);
+  QuadZ(&m, H, X0, X1, Y0, Y1, ceiling, 0);
+  QuadY(&m, Y1, X0, X1, 0, H, wall, 0);
+  QuadY(&m, Y0, X0, X1, 0, H, wall, 0);
+  QuadX(&m, X0, Y0, Y1, 0, H, wall2, 0);
+  QuadX(&m, X1, Y0, Y1, 0, H, wall2, 0);
+  // Skirting boards give long straight edges at the floor.
+  m.AddBox(V(X0, Y1 - 0.02f, 0), V(X1, Y1, 0.1f), plastic, 0);
+  m.AddBox(V(X0, Y0, 0), V(X0 + 0.02f, Y1, 0.1f), plastic, 0);
+  m.AddBox(V(X1 - 0.02f, Y0, 0), V(X1, Y1, 0.1f), plastic, 0);
+  // Ceiling lights and beams.
+  const float lx[3] = {-1.5f, 0.f, 1.5f}, ly[3] = {-1.4f, 0.2f, 1.7f};
+  for (float x : lx)
+    for (float y : ly) {
+      QuadZ(&m, H - 0.01f, x - 0.3f, x + 0.3f, y - 0.6f, y + 0.6f, light, 0);
+      s->lights.push_back({V(x, y, H - 0.25f), 1.0f});
+    }
+  for (float y : {-0.5f, 1.2f}) m.AddBox(V(X0, y - 0.08f, H - 0.22f), V(X1, y + 0.08f, H), beam, 0);
+  m.AddBox(V(-0.08f, Y0, H - 0.18f), V(0.08f, Y1, H), beam, 0);
+
+  // Back wall: whiteboard, posters, clock; shelves right, cabinet left.
+  m.AddBox(V(-1.0f, Y1 - 0.03f, 0.95f), V(1.0f, Y1, 2.05f), frame, 0);
+  QuadY(&m, Y1 - 0.035f, -0.97f, 0.97f, 0.98f, 2.02f, board, 0);
+  for (int i = 0; i < 3; ++i) {
+    const float x = -2.55f + 0.55f * float(i);
+    const int poster = s->AddMaterial(Mat(Pattern::kPrint, C(0.9f, 0.88f, 0.8f), dark, C(0.7f, 0.2f, 0.1f),
+                                          float(rng.Uniform(0.07, 0.14)), rng));
+    QuadY(&m, Y1 - 0.01f, x, x + 0.45f, 1.2f + 0.1f * float(i % 2), 1.85f + 0.1f * float(i % 2), poster, 0);
+  }
+  {
+    Mesh clock;
+    const int face = s->AddMaterial(Mat(Pattern::kPrint, white, dark, C(0.8f, 0.1f, 0.1f), 0.06f, rng));
+    clock.AddLimb(0.04f, 0.16f, 0.16f, 16, face, s->AddLabel(id++, 74));
+    Eigen::Affine3f T = Eigen::Affine3f::Identity();
+    T.translate(V(1.3f, Y1, 2.25f));
+    T.rotate(Eigen::AngleAxisf(-1.5707963f, V::UnitX()));
+    m.Append(clock, T);
+  }
+  // Shelf: frame + boards + rows of books.
+  const float sx0 = 1.25f, sx1 = 2.55f, sy0 = Y1 - 0.38f;
+  m.AddBox(V(sx0, sy0, 0), V(sx0 + 0.03f, Y1, 2.0f), wood, 0);
+  m.AddBox(V(sx1 - 0.03f, sy0, 0), V(sx1, Y1, 2.0f), wood, 0);
+  for (int k = 0; k < 5; ++k) {
+    const float z = 0.05f + 0.48f * float(k);
+    m.AddBox(V(sx0, sy0, z), V(sx1, Y1, z + 0.025f), wood, 0);
+    if (k < 4) {
+      const int row = s->AddMaterial(Mat(Pattern::kSpines, C(0.12f, 0.1f, 0.08f), C(0.9f, 0.88f, 0.8f), C(0.8f, 0.7f, 0.1f),
+                                         float(rng.Uniform(0.03, 0.05)), rng));
+      m.AddBoxFront(V(sx0 + 0.04f, sy0 + 0.05f, z + 0.025f), V(sx1 - 0.04f, Y1 - 0.02f, z + 0.025f + 0.26f), plastic,
+                    row, 0, -1);
+    }
+  }
+  m.AddBoxFront(V(-2.6f, Y1 - 0.45f, 0), V(-1.7f, Y1, 1.15f), grey, binders, 0, -1);
+  m.AddBox(V(-2.6f, Y1 - 0.45f, 1.15f), V(-1.7f, Y1, 1.18f), wood, 0);
+  m.AddBoxFront(V(-2.5f, Y1 - 0.3f, 1.18f), V(-1.9f, Y1 - 0.05f, 1.45f), plastic, spines, 0, -1);
+  // Potted plant next to the cabinet.
+  {
+    Mesh p;
+    const int pot = s->AddMaterial(Mat(Pattern::kFlat, C(0.6f, 0.3f, 0.15f), white, dark, 1, rng));
+    const int pid = s->AddLabel(id++, 58);
+    p.AddLimb(0.35f, 0.16f, 0.12f, 12, pot, pid);
+    p.AddEllipsoid(V(0, 0, 0.35f), V(0.3f, 0.3f, 0.4f), 12, 8, plant, pid, plant, 1.f);
+    Eigen::Affine3f T = Eigen::Affine3f::Identity();
+    T.translate(V(-2.3f, 1.6f, 0.35f));
+    m.Append(p, T);
+  }
+  // Door and posters on the side walls.
+  m.AddBox(V(X1 - 0.05f, -1.6f, 0), V(X1, -0.7f, 2.1f), wood, 0);
+  for (int i = 0; i < 2; ++i) {
+    const int poster = s->AddMaterial(Mat(Pattern::kPrint, C(0.15f, 0.2f, 0.3f), white, C(0.9f, 0.7f, 0.2f),
+                                          float(rng.Uniform(0.08, 0.15)), rng));
+    QuadX(&m, X0 + 0.01f, -0.4f + 1.3f * float(i), 0.4f + 1.3f * float(i), 1.1f, 1.9f, poster, 0);
+    QuadX(&m, X1 - 0.01f, 0.2f + 1.1f * float(i), 0.9f + 1.1f * float(i), 1.2f, 1.8f, poster, 0);
+  }
+
+  // Cubicle partitions: back panel at y = 1.85..1.9, side panels at x = +-1.6, papers pinned.
+  const float py0 = 1.85f, py1 = 1.9f, ph = 1.35f;
+  m.AddBox(V(-2.0f, py0, 0), V(2.0f, py1, ph), fabric, 0);
+  m.AddBox(V(-2.0f, py0 - 0.01f, ph), V(2.0f, py1 + 0.01f, ph + 0.03f), frame, 0);
+  for (float x : {-1.65f, 1.6f}) {
+    m.AddBox(V(x, 0.9f, 0), V(x + 0.05f, py0, ph), fabric, 0);
+    m.AddBox(V(x - 0.01f, 0.9f, ph), V(x + 0.06f, py0, ph + 0.03f), frame, 0);
+  }
+  for (int i = 0; i < 9; ++i) {
+    const float x = -1.55f + 0.36f * float(i) + float(rng.Uniform(-0.05, 0.05));
+    const float z = float(rng.Uniform(0.85, 1.05));
+    const int paper = s->AddMaterial(Mat(Pattern::kPrint, C(0.92f, 0.92f, 0.9f), dark, C(0.2f, 0.3f, 0.7f),
+                                         float(rng.Uniform(0.04, 0.07)), rng));
+    QuadY(&m, py0 - 0.005f, x, x + 0.21f, z, z + 0.28f, paper, 0);
+  }
+
+  // Two desks with monitors, keyboards, mice, books, cups; a laptop on the left one.
+  for (int d = 0; d < 2; ++d) {
+    const float x0 = d == 0 ? -1.55f : 0.03f, x1 = d == 0 ? -0.03f : 1.55f, xc = 0.5f * (x0 + x1);
+    const int desk = s->AddLabel(id++, 60);
+    m.AddBox(V(x0, 1.0f, 0.70f), V(x1, 1.8f, 0.74f), wood, desk);
+    m.AddBox(V(x0 + 0.02f, 1.05f, 0), V(x0 + 0.05f, 1.78f, 0.70f), grey, desk);
+    m.AddBox(V(x1 - 0.05f, 1.05f, 0), V(x1 - 0.02f, 1.78f, 0.70f), grey, desk);
+    m.AddBox(V(x0 + 0.05f, 1.7f, 0.25f), V(x1 - 0.05f, 1.73f, 0.70f), grey, desk);
+    for (int k = 0; k < (d == 0 ? 1 : 2); ++k) {
+      const float mx = d == 0 ? xc + 0.2f : xc - 0.33f + 0.66f * float(k);
+      const int mon = s->AddLabel(id++, 62);
+      const int screen = s->AddMaterial(Mat(Pattern::kPrint, C(0.12f, 0.14f, 0.2f), C(0.85f, 0.85f, 0.85f),
+                                            C(0.3f, 0.6f, 0.9f), float(rng.Uniform(0.05, 0.09)), rng, 0.6f));
+      m.AddBox(V(mx - 0.12f, 1.45f, 0.74f), V(mx + 0.12f, 1.62f, 0.76f), plastic, mon);
+      m.AddBox(V(mx - 0.03f, 1.55f, 0.76f), V(mx + 0.03f, 1.58f, 0.95f), plastic, mon);
+      m.AddBoxFront(V(mx - 0.3f, 1.5f, 0.88f), V(mx + 0.3f, 1.55f, 1.24f), plastic, plastic, mon, -1);
+      QuadY(&m, 1.499f, mx - 0.28f, mx + 0.28f, 0.9f, 1.22f, screen, mon);
+      const int kb = s->AddLabel(id++, 66);
+      m.AddBox(V(mx - 0.22f, 1.12f, 0.74f), V(mx + 0.22f, 1.28f, 0.76f), plastic, kb);
+      QuadZ(&m, 0.7605f, mx - 0.215f, mx + 0.215f, 1.125f, 1.275f, keys, kb);
+      const int mouse = s->AddLabel(id++, 64);
+      m.AddBox(V(mx + 0.3f, 1.15f, 0.74f), V(mx + 0.36f, 1.25f, 0.77f), grey, mouse);
+    }
+    // Books: a stack and a few upright ones.
+    float z = 0.74f;
+    for (int b = 0; b < 4; ++b) {
+      const int book = s->AddLabel(id++, 73);
+      const float w = float(rng.Uniform(0.17, 0.25)), dd = float(rng.Uniform(0.22, 0.3)), t = float(rng.Uniform(0.025, 0.05));
+      const int cover = s->AddMaterial(Mat(Pattern::kPrint, C(float(rng.Uniform(0.1, 0.9)), float(rng.Uniform(0.1, 0.9)),
+                                                               float(rng.Uniform(0.1, 0.9))), dark, white,
+                                           float(rng.Uniform(0.04, 0.08)), rng));
+      const float bx = (d == 0 ? x0 + 0.15f : x1 - 0.4f) + float(rng.Uniform(-0.03, 0.03));
+      m.AddBoxFront(V(bx, 1.3f, z), V(bx + w, 1.3f + dd, z + t), cover, cover, book, -1);
+      QuadZ(&m, z + t + 0.0005f, bx, bx + w, 1.3f, 1.3f + dd, cover, book);
+      z += t;
+    }
+    for (int b = 0; b < 5; ++b) {
+      const int book = s->AddLabel(id++, 73);
+      const int cover = s->AddMaterial(Mat(Pattern::kSpines, C(float(rng.Uniform(0.1, 0.8)), 0.2f, 0.3f), white, C(0.9f, 0.8f, 0.1f),
+                                           0.05f, rng));
+      const float bx = (d == 0 ? x1 - 0.45f : x0 + 0.12f) + 0.045f * float(b);
+      const float hb = float(rng.Uniform(0.2, 0.28));
+      m.AddBoxFront(V(bx, 1.62f, 0.74f), V(bx + 0.04f, 1.8f, 0.74f + hb), cover, cover, book, -1);
+    }
+    const int cup = s->AddLabel(id++, 41);
+    const int mug = s->AddMaterial(Mat(Pattern::kPrint, white, C(0.7f, 0.1f, 0.1f), dark, 0.03f, rng));
+    Mesh c;
+    c.AddLimb(0.1f, 0.04f, 0.037f, 12, mug, cup);
+    Eigen::Affine3f T = Eigen::Affine3f::Identity();
+    T.translate(V(d == 0 ? xc - 0.35f : xc + 0.05f, 1.1f, 0.84f));
+    m.Append(c, T);
+    const int paper = s->AddMaterial(Mat(Pattern::kPrint, C(0.93f, 0.93f, 0.9f), dark, C(0.6f, 0.1f, 0.1f), 0.05f, rng));
+    QuadZ(&m, 0.7405f, xc - 0.1f, xc + 0.11f, 1.02f, 1.1f + 0.2f * float(d), paper, 0);
+  }
+  {
+    const int lap = s->AddLabel(id++, 63);
+    const int lscreen = s->AddMaterial(Mat(Pattern::kPrint, C(0.9f, 0.9f, 0.92f), C(0.1f, 0.1f, 0.2f), C(0.9f, 0.4f, 0.1f),
+                                           0.05f, rng, 0.5f));
+    Mesh l;
+    l.AddBox(V(-0.17f, -0.12f, 0), V(0.17f, 0.12f, 0.02f), grey, lap);
+    QuadZ(&l, 0.0205f, -0.15f, 0.15f, -0.1f, 0.05f, keys, lap);
+    Mesh scr;
+    scr.AddBox(V(-0.17f, 0, 0), V(0.17f, 0.01f, 0.23f), grey, lap);
+    QuadY(&scr, -0.001f, -0.155f, 0.155f, 0.015f, 0.215f, lscreen, lap);
+    Eigen::Affine3f Ts = Eigen::Affine3f::Identity();
+    Ts.translate(V(0, 0.12f, 0.02f));
+    Ts.rotate(Eigen::AngleAxisf(-0.3f, V::UnitX()));
+    l.Append(scr, Ts);
+    Eigen::Affine3f T = Eigen::Affine3f::Identity();
+    T.translate(V(-1.2f, 1.3f, 0.74f));
+    T.rotate(Eigen::AngleAxisf(0.25f, V::UnitZ()));
+    m.Append(l, T);
+  }
+}
+
+Mesh BuildChairMesh(Scene* s, uint64_t seed, int variant) {
+  Rng rng(seed, "synth.scene.chair" + std::to_string(variant));
+  const Rgb dark = C(0.05f, 0.05f, 0.05f);
+  const int seat = s->AddMaterial(Mat(Pattern::kFabric, C(float(rng.Uniform(0.1, 0.5)), 0.12f, float(rng.Uniform(0.1, 0.4))),
+                                      dark, dark, 1, rng));
+  const int black = s->AddMaterial(Mat(Pattern::kFlat, C(0.06f, 0.06f, 0.07f), dark, dark, 1, rng));
+  const int metal = s->AddMaterial(Mat(Pattern::kMetal, C(0.6f, 0.6f, 0.62f), dark, dark, 1, rng));
+  Mesh m;
+  m.AddBox(V(-0.24f, -0.24f, 0.42f), V(0.24f, 0.24f, 0.5f), seat, 0);
+  m.AddBox(V(-0.27f, -0.22f, 0.56f), V(-0.2f, 0.22f, 1.02f), seat, 0);
+  m.AddBox(V(-0.26f, -0.04f, 0.45f), V(-0.22f, 0.04f, 0.58f), black, 0);
+  for (int side = -1; side <= 1; side += 2) {
+    m.AddBox(V(-0.15f, 0.23f * float(side) - 0.02f, 0.5f), V(-0.11f, 0.23f * float(side) + 0.02f, 0.66f), black, 0);
+    m.AddBox(V(-0.17f, 0.23f * float(side) - 0.03f, 0.66f), V(0.15f, 0.23f * float(side) + 0.03f, 0.69f), black, 0);
+  }
+  Mesh post;
+  post.AddLimb(0.34f, 0.025f, 0.025f, 8, metal, 0);
+  Eigen::Affine3f T = Eigen::Affine3f::Identity();
+  T.translate(V(0, 0, 0.42f));
+  m.Append(post, T);
+  for (int k = 0; k < 5; ++k) {
+    Mesh leg;
+    leg.AddBox(V(0, -0.02f, 0.05f), V(0.3f, 0.02f, 0.09f), black, 0);
+    leg.AddBox(V(0.26f, -0.025f, 0), V(0.31f, 0.025f, 0.05f), black, 0);
+    Eigen::Affine3f R = Eigen::Affine3f::Identity();
+    R.rotate(Eigen::AngleAxisf(1.2566371f * float(k) + 0.3f, V::UnitZ()));
+    m.Append(leg, R);
+  }
+  return m;
+}
+
+Mesh BuildBoxMesh(Scene* s, uint64_t seed) {
+  Rng rng(seed, "synth.scene.box");
+  const int card = s->AddMaterial(Mat(Pattern::kCardboard, C(0.62f, 0.45f, 0.26f), C(0.75f, 0.68f, 0.5f), C(0.05f, 0.05f, 0.05f),
+                                      0.3f, rng));
+  Mesh m;
+  m.AddBox(V(-0.22f, -0.17f, -0.15f), V(0.22f, 0.17f, 0.15f), card, 0);
+  return m;
+}
+
+}  // namespace dynref::synth

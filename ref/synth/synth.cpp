@@ -1,0 +1,224 @@
+#include "synth/synth.h"
+
+#include <opencv2/imgcodecs.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <memory>
+#include <set>
+#include <sstream>
+#include <sys/stat.h>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/format.h"
+#include "core/rng.h"
+#include "core/version.h"
+#include "io/camera.h"
+#include "io/mask_format.h"
+#include "synth/degrade.h"
+#include "synth/sensor.h"
+#include "synth/world.h"
+
+namespace dynref::synth {
+namespace {
+
+void MakeDir(const std::string& dir) {
+  ::mkdir(dir.c_str(), 0755);
+  struct stat st {};
+  if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw InputError(dir, "cannot create output directory");
+}
+
+void WritePng(const std::string& path, const cv::Mat& image) {
+  const std::string tmp = TempPathFor(path) + ".png";
+  if (!cv::imwrite(tmp, image)) throw std::runtime_error("cannot write " + tmp);
+  AtomicRename(tmp, path);
+}
+
+// An item moves in this frame if any corner of its mesh bounds moved > 1 mm since t - 1/30 s.
+constexpr double kMovingThresholdM = 0.001;
+bool ItemMoves(const DrawItem& now, const DrawItem& before) {
+  Eigen::Vector3f lo, hi;
+  now.mesh->Bounds(&lo, &hi);
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d p((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
+    if ((now.T_wo * p - before.T_wo * p).norm() > kMovingThresholdM) return true;
+  }
+  return false;
+}
+
+std::string Stamp(double s) { return FormatFixed(s, 6); }
+
+std::string PoseLine(const std::string& stamp, const SE3& T_wc) {
+  const Eigen::Quaterniond q(T_wc.linear());
+  const Eigen::Vector3d t = T_wc.translation();
+  std::ostringstream o;
+  o << stamp << ' ' << FormatFixed(t.x(), 6) << ' ' << FormatFixed(t.y(), 6) << ' ' << FormatFixed(t.z(), 6) << ' '
+    << FormatFixed(q.x(), 6) << ' ' << FormatFixed(q.y(), 6) << ' ' << FormatFixed(q.z(), 6) << ' '
+    << FormatFixed(q.w(), 6) << '\n';
+  return o.str();
+}
+
+std::string LabelsYaml(const Scene& scene) {
+  std::ostringstream o;
+  o << "# dynref synth ground-truth labels: instance id -> class (COCO id, -1 = not a COCO class)\n"
+    << "instances:\n";
+  for (const auto& [id, l] : scene.labels)
+    o << "  " << id << ": {class_name: " << l.class_name << ", coco_id: " << l.coco_id
+      << ", prior_dynamic: " << (l.prior_dynamic ? "true" : "false") << "}\n";
+  return o.str();
+}
+
+}  // namespace
+
+void SynthOptions::Check() const {
+  GetPreset(preset);  // throws for an unknown preset
+  if (frames < 0) throw InputError("--frames", "must be >= 0 (0 = preset default)");
+  if (out.empty()) throw InputError("--out", "output directory required");
+  if (detections != "none" && detections != "all") ProfileFor(detections);
+  if (blur_subframes < 2) throw InputError("blur_subframes", "must be >= 2");
+  if (!(exposure_s > 0 && exposure_s <= 0.1)) throw InputError("exposure_s", "must be in (0, 0.1]");
+}
+
+SynthStats GenerateSequence(const SynthOptions& opt) {
+  opt.Check();
+  using Clock = std::chrono::steady_clock;
+  const auto t_start = Clock::now();
+  const std::clock_t cpu_start = std::clock();
+  double render_ms = 0, render_cpu_ms = 0;
+  const World world(GetPreset(opt.preset), opt.seed);
+  const int n = opt.frames > 0 ? opt.frames : world.preset().default_frames;
+  const Camera camera = CameraPreset("synthetic");
+  Intrinsics K;
+  K.width = camera.width, K.height = camera.height;
+  K.fx = float(camera.fx), K.fy = float(camera.fy), K.cx = float(camera.cx), K.cy = float(camera.cy);
+  const SensorModel sensor;
+
+  MakeDir(opt.out);
+  MakeDir(opt.out + "/rgb");
+  MakeDir(opt.out + "/depth");
+  MakeDir(opt.out + "/gt");
+  MakeDir(opt.out + "/gt/motion");
+  DetectionsWriter gt_writer(opt.out + "/gt", "gt", "");
+  std::vector<std::string> modes;
+  if (opt.detections == "all") modes = {"ideal", "yolo-like", "sparseinst-like"};
+  else if (opt.detections != "none") modes = {opt.detections};
+  std::vector<std::unique_ptr<DetectionsWriter>> det_writers;
+  std::vector<Degrader> degraders;
+  if (!modes.empty()) MakeDir(opt.out + "/detections");
+  for (const auto& m : modes) {
+    det_writers.push_back(std::make_unique<DetectionsWriter>(opt.out + "/detections/" + m, "synthetic:" + m, ""));
+    degraders.emplace_back(ProfileFor(m), world.scene().labels, opt.seed, opt.blur);
+  }
+
+  std::ostringstream rgb_txt, depth_txt, gt_txt, assoc_txt, moving_txt;
+  const std::string header = "# dynref synth " + opt.preset + " seed " + std::to_string(opt.seed) + "\n";
+  rgb_txt << "# color images\n" << header << "# timestamp filename\n";
+  depth_txt << "# depth maps\n" << header << "# timestamp filename\n";
+  gt_txt << "# ground truth trajectory (T_wc, camera to world)\n" << header << "# timestamp tx ty tz qx qy qz qw\n";
+  moving_txt << "# rgb_stamp ids of instances that move in this frame (> 1 mm since the previous frame)\n";
+
+  Rng timing(opt.seed, "synth.timing");
+  std::vector<DrawItem> items, items_prev, sub_items;
+  GBuffer gb, sub_gb;
+  cv::Mat radiance, sub_radiance, sum;
+  for (int i = 0; i < n; ++i) {
+    // Kinect-like log: rgb at 30 Hz with +-0.3 ms jitter, depth 0.5..3 ms later (TUM associate.py
+    // pairs them; max_difference 0.02 s).
+    const double t = double(i) / kFrameRateHz + timing.Uniform(-0.0003, 0.0003);
+    const double depth_dt = timing.Uniform(0.0005, 0.003);
+    const std::string rgb_stamp = Stamp(kStampBase + t), depth_stamp = Stamp(kStampBase + t + depth_dt);
+    const auto t_frame = Clock::now();
+    const std::clock_t cpu_frame = std::clock();
+    const SE3 T_wc = world.CameraT_wc(t);
+    world.Items(t, &items);
+    Rasterize(K, T_wc.inverse(), items, &gb);
+    if (!opt.blur) ShadeRadiance(world.scene(), K, T_wc, gb, &radiance);
+    else {  // seed 003: blur = average of sub-frame renders over the exposure
+      sum = cv::Mat::zeros(K.height, K.width, CV_32FC3);
+      for (int k = 0; k < opt.blur_subframes; ++k) {
+        const double tk = t + opt.exposure_s * ((k + 0.5) / opt.blur_subframes - 0.5);
+        const SE3 T_wc_k = world.CameraT_wc(tk);
+        world.Items(tk, &sub_items);
+        Rasterize(K, T_wc_k.inverse(), sub_items, &sub_gb);
+        ShadeRadiance(world.scene(), K, T_wc_k, sub_gb, &sub_radiance);
+        sum += sub_radiance;
+      }
+      radiance = sum / double(opt.blur_subframes);
+    }
+    Rng rgb_rng(opt.seed, "synth.rgb." + std::to_string(i)), depth_rng(opt.seed, "synth.depth." + std::to_string(i));
+    const cv::Mat rgb = SenseRgb(sensor, radiance, opt.low_light, rgb_rng);
+    const cv::Mat depth = SenseDepth(sensor, gb, depth_rng);
+    render_ms += std::chrono::duration<double, std::milli>(Clock::now() - t_frame).count();
+    render_cpu_ms += 1000.0 * double(std::clock() - cpu_frame) / CLOCKS_PER_SEC;
+
+    // Ground truth: instance ids, body parts, motion flags.
+    world.Items(t - 1.0 / kFrameRateHz, &items_prev);
+    std::vector<uint8_t> moving(items.size(), 0);
+    std::set<int> moving_ids;
+    for (size_t k = 1; k < items.size(); ++k)
+      if (ItemMoves(items[k], items_prev[k])) {
+        moving[k] = 1;
+        moving_ids.insert(world.ItemInstance(k));
+      }
+    GtFrame gt;
+    gt.stamp_text = rgb_stamp;
+    gt.instance_ids.create(K.height, K.width, CV_16U);
+    gt.body_part.create(K.height, K.width, CV_8S);
+    gt.depth_m.create(K.height, K.width, CV_32F);
+    cv::Mat motion(K.height, K.width, CV_8U);
+    for (int y = 0; y < K.height; ++y)
+      for (int x = 0; x < K.width; ++x) {
+        const size_t idx = size_t(y) * K.width + x;
+        const int32_t f = gb.face[idx];
+        const FaceRecord* rec = f >= 0 ? &gb.faces[size_t(f)] : nullptr;
+        gt.instance_ids.at<uint16_t>(y, x) = rec ? rec->instance : 0;
+        gt.body_part.at<int8_t>(y, x) = int8_t(rec ? world.ItemBodyPart(size_t(rec->part)) : -1);
+        gt.depth_m.at<float>(y, x) = rec ? gb.z[idx] : 0.f;
+        motion.at<uint8_t>(y, x) = rec && moving[size_t(rec->part)] ? 255 : 0;
+      }
+
+    WritePng(opt.out + "/rgb/" + rgb_stamp + ".png", rgb);
+    WritePng(opt.out + "/depth/" + depth_stamp + ".png", depth);
+    gt_writer.Write(GtDetections(gt, world.scene().labels));
+    WritePng(opt.out + "/gt/motion/" + rgb_stamp + ".png", motion);
+    for (size_t m = 0; m < modes.size(); ++m) det_writers[m]->Write(degraders[m].Apply(i, gt));
+
+    rgb_txt << rgb_stamp << " rgb/" << rgb_stamp << ".png\n";
+    depth_txt << depth_stamp << " depth/" << depth_stamp << ".png\n";
+    assoc_txt << rgb_stamp << " rgb/" << rgb_stamp << ".png " << depth_stamp << " depth/" << depth_stamp << ".png\n";
+    gt_txt << PoseLine(rgb_stamp, T_wc);
+    moving_txt << rgb_stamp;
+    for (int id : moving_ids) moving_txt << ' ' << id;
+    moving_txt << '\n';
+  }
+  // Metadata first, the lists that make the folder readable last.
+  WriteOrbSlamCameraYaml(camera, opt.out + "/camera.yaml");
+  std::ostringstream meta;
+  meta << "# dynref synth parameters (reproduce with: dynref synth --preset " << opt.preset << " --frames " << n
+       << " --seed " << opt.seed << (opt.blur ? " --blur" : "") << (opt.low_light ? " --low-light" : "")
+       << " --detections " << opt.detections << ")\n"
+       << "generator: dynref " << DYNREF_VERSION << "\npreset: " << opt.preset << "\nframes: " << n
+       << "\nseed: " << opt.seed << "\nblur: " << (opt.blur ? "true" : "false")
+       << "\nlow_light: " << (opt.low_light ? "true" : "false") << "\ndetections: " << opt.detections
+       << "\nblur_subframes: " << opt.blur_subframes << "\nexposure_s: " << FormatDouble17(opt.exposure_s) << "\n";
+  AtomicWriteFile(opt.out + "/synth.yaml", meta.str());
+  AtomicWriteFile(opt.out + "/gt/labels.yaml", LabelsYaml(world.scene()));
+  AtomicWriteFile(opt.out + "/gt/moving.txt", moving_txt.str());
+  gt_writer.Finish();
+  for (auto& w : det_writers) w->Finish();
+  AtomicWriteFile(opt.out + "/depth.txt", depth_txt.str());
+  AtomicWriteFile(opt.out + "/groundtruth.txt", gt_txt.str());
+  AtomicWriteFile(opt.out + "/associations.txt", assoc_txt.str());
+  AtomicWriteFile(opt.out + "/rgb.txt", rgb_txt.str());
+  SynthStats stats;
+  stats.frames = n;
+  stats.render_ms_per_frame = render_ms / std::max(1, n);
+  stats.render_cpu_ms_per_frame = render_cpu_ms / std::max(1, n);
+  stats.total_ms_per_frame = std::chrono::duration<double, std::milli>(Clock::now() - t_start).count() / std::max(1, n);
+  stats.total_cpu_ms_per_frame = 1000.0 * double(std::clock() - cpu_start) / CLOCKS_PER_SEC / std::max(1, n);
+  return stats;
+}
+
+}  // namespace dynref::synth

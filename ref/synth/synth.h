@@ -1,0 +1,37 @@
+// `dynref synth`: writes a synthetic dynamic RGB-D sequence in the exact TUM RGB-D layout plus
+// per-pixel ground truth (gt/) and optional degraded detections (detections/<mode>/).
+// Layout and models are documented in datasets/README.md.
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace dynref::synth {
+
+struct SynthOptions {
+  std::string preset;             // see PresetNames()
+  int frames = 0;                 // 0 = the preset's default length
+  uint64_t seed = 1;
+  bool blur = false;              // integrate sub-frame renders over the exposure
+  bool low_light = false;
+  std::string detections = "none";  // none | ideal | yolo-like | sparseinst-like | all
+  std::string out;
+  int blur_subframes = 8;
+  double exposure_s = 1.0 / 30.0;
+  void Check() const;             // InputError naming the bad field
+};
+
+struct SynthStats {
+  int frames = 0;
+  double render_ms_per_frame = 0;  // rasterise + shade (+ blur sub-frames) + sensor model (wall)
+  double render_cpu_ms_per_frame = 0;  // same, process CPU time
+  double total_ms_per_frame = 0;   // everything incl. GT, detections and PNG encoding (wall)
+  double total_cpu_ms_per_frame = 0;  // same, process CPU time (one thread: = one core)
+};
+
+SynthStats GenerateSequence(const SynthOptions& options);
+
+// Timestamp of frame i (seconds, TUM style) and its rendering time t (seconds since frame 0).
+constexpr double kStampBase = 1700000000.0;
+constexpr double kFrameRateHz = 30.0;
+
+}  // namespace dynref::synth
