@@ -1,0 +1,106 @@
+#include "detect/detection_source.h"
+
+#include <cstdlib>
+
+#include "core/error.h"
+#include "detect/sources.h"
+#include "io/coco_classes.h"
+
+namespace dynref {
+
+const char* const kNanodetSha256 = "70fda317330d4a961db7c4408e199022f0e9361a183e46b4cd302eba612988c0";
+const char* const kSelfieSha256 = "f008c9552c340278ecccd5954e1007ba2846c080fda59dc5b70e0876b774531d";
+
+std::string BundledModelPath(const std::string& file_name) {
+  // DYNREF_MODELS_DIR (environment) overrides the source tree's models/ folder, e.g. for an
+  // installed binary; the file contents are still checked against the bundled sha256.
+  const char* env = std::getenv("DYNREF_MODELS_DIR");
+  const std::string dir = (env && *env) ? std::string(env) : std::string(DYNREF_MODELS_DIR);
+  return dir + "/" + file_name;
+}
+
+void DetectSourceOptions::Check() const {
+  const std::string where = "<detect options>";
+  if (confidence_threshold > 1) throw InputError(where, "confidence_threshold must be <= 1 (or < 0 for the default)");
+  if (!(nms_iou > 0 && nms_iou <= 1)) throw InputError(where, "nms_iou must be in (0, 1]");
+  if (max_detections < 1 || max_detections > 65535) throw InputError(where, "max_detections must be in 1..65535");
+  if (yolo_input_size < 32 || yolo_input_size % 32 != 0)
+    throw InputError(where, "yolo_input_size must be a positive multiple of 32");
+}
+
+std::unique_ptr<DetectionSource> MakeDetectionSource(const std::string& spec,
+                                                     const DetectSourceOptions& options) {
+  options.Check();
+  const size_t colon = spec.find(':');
+  const std::string kind = spec.substr(0, colon);
+  const std::string arg = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  const auto need_arg = [&](const std::string& what) {
+    if (arg.empty()) throw InputError("<source>", "source '" + kind + "' needs " + what + " ('" + kind + ":...')");
+  };
+  const auto no_arg = [&] {
+    if (colon != std::string::npos) throw InputError("<source>", "source '" + kind + "' takes no ':' argument");
+  };
+  const auto need_sequence = [&] {
+    if (options.sequence_root.empty())
+      throw InputError("<source>", "source '" + spec + "' reads a synthetic sequence: give the sequence folder");
+  };
+  if (kind == "files") {
+    need_arg("a dynref-detections folder");
+    return detect::MakeFolderSource(arg);
+  }
+  if (kind == "labels") {
+    need_arg("a label-PNG folder with labels.yaml");
+    return detect::MakeLabelPngSource(arg);
+  }
+  if (kind == "gt") {
+    need_sequence();
+    return detect::MakeFolderSource(arg.empty() ? options.sequence_root + "/gt"
+                                                : options.sequence_root + "/detections/" + arg);
+  }
+  if (kind == "nanodet") {
+    no_arg();
+    return detect::MakeNanodetSource(options);
+  }
+  if (kind == "hog") {
+    no_arg();
+    return detect::MakeHogSource(options);
+  }
+  if (kind == "onnx-yolo") {
+    const std::string model = arg.empty() ? options.model_path : arg;
+    if (model.empty()) throw InputError("<source>", "source 'onnx-yolo' needs a model: 'onnx-yolo:PATH' or --model PATH");
+    return detect::MakeOnnxYoloSource(model, options);
+  }
+  throw InputError("<source>", "unknown detection source '" + spec +
+                                   "' (known: files:DIR, labels:DIR, gt, gt:MODE, nanodet, hog, onnx-yolo[:MODEL])");
+}
+
+namespace detect {
+
+void RequireBgrImage(const cv::Mat& bgr, const std::string& stamp_text, const std::string& source) {
+  if (bgr.empty() || bgr.type() != CV_8UC3)
+    throw InputError("frame " + stamp_text, source + " needs a non-empty 8-bit BGR image");
+}
+
+std::vector<std::string> CocoClassNames() {
+  std::vector<std::string> names;
+  for (int i = 0; i < kCocoClassCount; ++i) names.push_back(CocoClassName(i));
+  return names;
+}
+
+FrameDetections CandidatesToFrame(const std::vector<Candidate>& kept, const std::string& stamp_text,
+                                  const std::vector<std::string>& class_names) {
+  FrameDetections frame;
+  frame.stamp_text = stamp_text;
+  int id = 1;
+  for (const Candidate& c : kept) {
+    DetectedInstance d = ToCocoInstance(c, id++);
+    const bool named = c.class_id >= 0 && c.class_id < int(class_names.size());
+    d.class_name = named ? class_names[c.class_id] : "class_" + std::to_string(c.class_id);
+    d.class_id = CocoClassId(d.class_name);
+    frame.instances.push_back(d);
+  }
+  return frame;
+}
+
+}  // namespace detect
+}  // namespace dynref

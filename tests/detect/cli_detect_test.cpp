@@ -1,0 +1,84 @@
+// `dynref detect` end to end: a real TUM sequence (2 frames), byte-identical repeated output,
+// exit code 2 for a bad model path, a wrong sha256, a corrupt PNG mask and a bad --frames.
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "io/mask_format.h"
+#include "test_support.h"
+
+using dynref::test::RunDynref;
+using dynref::test::ScratchDir;
+using dynref::test::SourcePath;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string Slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+const std::string kSeq = "--sequence '" + SourcePath("datasets/real/tum_fr1_desk_9frames") + "' --camera tum_fr1";
+
+}  // namespace
+
+TEST_CASE("cli: detect --source nanodet on a TUM sequence is repeatable byte for byte") {
+  const std::string dir = ScratchDir("detect_cli_tum");
+  const auto a = RunDynref("detect --source nanodet " + kSeq + " --frames 0-1 --out " + dir + "/a");
+  INFO(a.output);
+  REQUIRE(a.exit_code == 0);
+  REQUIRE(RunDynref("detect --source nanodet " + kSeq + " --frames 0-1 --out " + dir + "/b").exit_code == 0);
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(dir + "/a")) {
+    ++files;
+    CHECK(Slurp(e.path()) == Slurp(fs::path(dir + "/b") / e.path().filename()));
+  }
+  CHECK(files >= 5);  // format, index, detect_info, 2 frame records
+  dynref::DetectionsReader r(dir + "/a");
+  CHECK(r.source() == "nanodet+selfie");
+  CHECK(r.model_sha256().substr(0, 16) == "70fda317330d4a96");
+  CHECK(r.Stamps().size() == 2);
+  // The folder is itself a source.
+  const auto c = RunDynref("detect --source files --input " + dir + "/a " + kSeq + " --frames 0-1 --out " + dir + "/c");
+  CHECK(c.exit_code == 0);
+  CHECK(Slurp(dir + "/a/1305031453.359684.txt") == Slurp(dir + "/c/1305031453.359684.txt"));
+}
+
+TEST_CASE("cli: detect exits 2 with a clear message for bad models, corrupt masks, bad ranges") {
+  const std::string img = "--image '" + SourcePath("tests/data/darknet/person.jpg") + "'";
+  const auto no_model = RunDynref("detect --source nanodet --model /nonexistent.onnx " + img);
+  CHECK(no_model.exit_code == 2);
+  CHECK(no_model.output.find("/nonexistent.onnx") != std::string::npos);
+  const auto wrong = RunDynref("detect --source nanodet --model '" + SourcePath("models/selfie.onnx") + "' " + img);
+  CHECK(wrong.exit_code == 2);
+  CHECK(wrong.output.find("sha256 mismatch") != std::string::npos);
+  // A detections folder whose instance PNG is corrupt (frame key = image stem "person").
+  const std::string dir = ScratchDir("detect_cli_corrupt") + "/det";
+  {
+    dynref::FrameDetections f;
+    f.stamp_text = "person";
+    dynref::DetectedInstance d;
+    d.id = 1;
+    d.class_id = 0;
+    d.class_name = "person";
+    d.x_max = d.y_max = 10;
+    d.has_mask = true;
+    f.instances = {d};
+    f.instance_ids = cv::Mat::ones(424, 640, CV_16U);
+    dynref::DetectionsWriter w(dir, "test", "-");
+    w.Write(f);
+    w.Finish();
+  }
+  std::ofstream(dir + "/person.png") << "not a png";
+  const auto corrupt = RunDynref("detect --source files --input " + dir + " " + img);
+  CHECK(corrupt.exit_code == 2);
+  CHECK(corrupt.output.find("corrupt") != std::string::npos);
+  CHECK(RunDynref("detect --source nanodet " + kSeq + " --frames 5-99 --out " + dir + "/x").exit_code == 2);
+  CHECK(RunDynref("detect --source nanodet " + kSeq + " --frames 3 --out " + dir + "/x").exit_code == 2);
+  CHECK(RunDynref("detect --source nanodet " + kSeq).exit_code == 2);  // no --out
+  CHECK(RunDynref("detect --help").exit_code == 0);
+}
