@@ -1,0 +1,173 @@
+// Pose-only optimisation: ORB-SLAM2 Optimizer::PoseOptimization (Mur-Artal & Tardos 2017,
+// Sec. IV-B "motion-only BA") with Ceres instead of g2o. Conventions in optim/optim.h.
+#include <ceres/ceres.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include "core/error.h"
+#include "optim/optim.h"
+#include "optim/reprojection.h"
+#include "trace/trace_writer.h"
+
+namespace dynref::optim {
+
+void PoseOnlyOptions::Check() const {
+  const std::string where = "PoseOnlyOptions";
+  if (rounds < 1) throw InputError(where, "rounds must be >= 1");
+  if (iterations < 1) throw InputError(where, "iterations must be >= 1");
+  if (!(chi2_mono > 0)) throw InputError(where, "chi2_mono must be > 0");
+  if (!(chi2_stereo > 0)) throw InputError(where, "chi2_stereo must be > 0");
+  if (min_edges < 0) throw InputError(where, "min_edges must be >= 0");
+}
+
+namespace {
+
+// Per-observation constants derived once from the input.
+struct Edge {
+  bool stereo = false;   // rgbd3 residual (u_right >= 0) or mono2
+  Eigen::Vector3d obs;   // (u, v, u_right)
+  double info = 0;       // inv_sigma2 * weight
+  double threshold = 0;  // chi2 threshold for this residual kind
+};
+
+// Raw residual and chi2 of one edge at T_cw; chi2 = +inf (outlier) when the point is not in
+// front of the camera.
+double EdgeChi2(const Intrinsics& K, const SE3& T_cw, const Eigen::Vector3d& X_w, const Edge& edge,
+                std::vector<double>* raw) {
+  double e[3] = {0, 0, 0};
+  const int dof = edge.stereo ? 3 : 2;
+  const bool ok = edge.stereo ? RawResidual<3>(K, T_cw, X_w, edge.obs, e)
+                              : RawResidual<2>(K, T_cw, X_w, edge.obs, e);
+  if (raw != nullptr) raw->assign(e, ok ? e + dof : e);
+  if (!ok) return std::numeric_limits<double>::infinity();
+  double sq = 0;
+  for (int k = 0; k < dof; ++k) sq += e[k] * e[k];
+  return edge.info * sq;
+}
+
+ceres::Solver::Options MakeSolverOptions(int iterations) {
+  ceres::Solver::Options opts;
+  opts.minimizer_type = ceres::TRUST_REGION;
+  opts.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  opts.linear_solver_type = ceres::DENSE_QR;  // 6 unknowns; fixed solver choice (determinism)
+  opts.max_num_iterations = iterations;
+  opts.num_threads = 1;
+  opts.logging_type = ceres::SILENT;
+  opts.minimizer_progress_to_stdout = false;
+  return opts;
+}
+
+}  // namespace
+
+PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
+                            const std::vector<PoseObservation>& observations,
+                            const PoseOnlyOptions& options, trace::TraceWriter* trace,
+                            const std::string& call_id) {
+  options.Check();
+  const size_t n = observations.size();
+  std::vector<Edge> edges(n);
+  for (size_t i = 0; i < n; ++i) {
+    const PoseObservation& o = observations[i];
+    if (!(o.inv_sigma2 >= 0) || !(o.weight >= 0)) {
+      throw InputError("OptimizePose",
+                       "observation " + o.obs_id + ": inv_sigma2 and weight must be >= 0");
+    }
+    Edge& e = edges[i];
+    e.stereo = o.u_right >= 0;
+    e.obs = Eigen::Vector3d(o.uv.x(), o.uv.y(), o.u_right);
+    e.info = o.inv_sigma2 * o.weight;
+    e.threshold = e.stereo ? options.chi2_stereo : options.chi2_mono;
+  }
+
+  const bool log = trace != nullptr && trace->full_enabled();
+  std::vector<std::vector<double>> residual_start(log ? n : 0);
+
+  PoseOnlyResult result;
+  result.T_cw = T_cw_init;
+  result.inlier.assign(n, 0);
+  std::vector<double> chi2(n, 0.0);
+  // Initial classification: only points in front of the camera enter the first round
+  // (ORB-SLAM2 adds every matched point; a point behind the camera has no valid projection).
+  for (size_t i = 0; i < n; ++i) {
+    chi2[i] =
+        EdgeChi2(K, T_cw_init, observations[i].X_w, edges[i], log ? &residual_start[i] : nullptr);
+    result.inlier[i] = std::isfinite(chi2[i]) ? 1 : 0;
+  }
+
+  double pose[7];
+  PoseToParams(T_cw_init, pose);
+  PoseManifold manifold;
+  ceres::HuberLoss huber_mono(std::sqrt(options.chi2_mono));
+  ceres::HuberLoss huber_stereo(std::sqrt(options.chi2_stereo));
+  const ceres::Solver::Options solver_options = MakeSolverOptions(options.iterations);
+  // One cost functor per observation, built once and shared by every round's problem.
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs(n);
+  for (size_t i = 0; i < n; ++i) {
+    const double s = std::sqrt(edges[i].info);
+    if (edges[i].stereo) {
+      costs[i] = std::make_unique<PoseOnlyCost<3>>(K, observations[i].X_w, edges[i].obs, s);
+    } else {
+      costs[i] = std::make_unique<PoseOnlyCost<2>>(K, observations[i].X_w, edges[i].obs, s);
+    }
+  }
+
+  if (n >= 3) {  // ORB-SLAM2: nInitialCorrespondences < 3 => pose left unchanged
+    for (int round = 0; round < options.rounds; ++round) {
+      // ORB-SLAM2 drops the robust kernel after the third classification (level-2 edges).
+      const bool robust = round < options.rounds - 1;
+      // ORB-SLAM2 calls vSE3->setEstimate(pFrame->mTcw) inside the loop: every round starts from
+      // the initial pose with the current inlier set.
+      if (options.restart_each_round) PoseToParams(T_cw_init, pose);
+      ceres::Problem::Options problem_options;
+      problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+      ceres::Problem problem(problem_options);
+      problem.AddParameterBlock(pose, 7, &manifold);
+      int active = 0;
+      for (size_t i = 0; i < n; ++i) {                            // input order
+        if (!result.inlier[i] || !(edges[i].info > 0)) continue;  // outlier or weight 0
+        ceres::LossFunction* loss = edges[i].stereo ? &huber_stereo : &huber_mono;
+        problem.AddResidualBlock(costs[i].get(), robust ? loss : nullptr, pose);
+        ++active;
+      }
+      if (active == 0) break;
+      ceres::Solver::Summary summary;
+      ceres::Solve(solver_options, &problem, &summary);
+      ++result.rounds_run;
+      const SE3 T_cw = ParamsToPose(pose);
+      // Re-classify every observation, including the current outliers (they can come back).
+      int weighted_inliers = 0;
+      for (size_t i = 0; i < n; ++i) {
+        chi2[i] = EdgeChi2(K, T_cw, observations[i].X_w, edges[i], nullptr);
+        result.inlier[i] = chi2[i] <= edges[i].threshold ? 1 : 0;
+        if (result.inlier[i] && edges[i].info > 0) ++weighted_inliers;
+      }
+      result.T_cw = T_cw;
+      if (weighted_inliers < options.min_edges) break;
+    }
+  }
+
+  if (result.rounds_run == 0) {  // nothing optimised: classify at the initial pose
+    for (size_t i = 0; i < n; ++i) result.inlier[i] = chi2[i] <= edges[i].threshold ? 1 : 0;
+  }
+  result.num_inliers = 0;
+  for (size_t i = 0; i < n; ++i) result.num_inliers += result.inlier[i];
+  result.chi2 = chi2;  // computed at result.T_cw (last classification or the initial pose)
+
+  if (log) {
+    std::vector<double> residual_end;
+    for (size_t i = 0; i < n; ++i) {
+      const double c = EdgeChi2(K, result.T_cw, observations[i].X_w, edges[i], &residual_end);
+      trace->Residual(call_id, edges[i].stereo ? "rgbd3" : "mono2", observations[i].obs_id,
+                      residual_start[i], residual_end, observations[i].inv_sigma2,
+                      observations[i].weight, HuberRho(c, edges[i].threshold), c,
+                      result.inlier[i] != 0);
+    }
+  }
+  return result;
+}
+
+}  // namespace dynref::optim

@@ -1,0 +1,183 @@
+#include "optim/reprojection.h"
+
+#include <cmath>
+
+namespace dynref::optim {
+namespace {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+
+Eigen::Matrix3d Skew(const Eigen::Vector3d& w) {
+  Eigen::Matrix3d W;
+  W << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
+  return W;
+}
+
+// Exp_SO3 as a unit quaternion (first-order series below 1e-10 rad).
+Eigen::Quaterniond ExpSO3(const Eigen::Vector3d& omega) {
+  const double theta = omega.norm();
+  if (theta < 1e-10) {
+    return Eigen::Quaterniond(1.0, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z()).normalized();
+  }
+  return Eigen::Quaterniond(Eigen::AngleAxisd(theta, omega / theta));
+}
+
+// Left Jacobian of SO3, V(omega) = I + (1 - cos t)/t^2 W + (t - sin t)/t^3 W^2 (Barfoot, State
+// Estimation for Robotics, Eq. 7.86); its Taylor series near 0.
+Eigen::Matrix3d LeftJacobianSO3(const Eigen::Vector3d& omega) {
+  const double theta = omega.norm();
+  const Eigen::Matrix3d W = Skew(omega);
+  if (theta < 1e-5) return Eigen::Matrix3d::Identity() + 0.5 * W + (1.0 / 6.0) * W * W;
+  const double t2 = theta * theta;
+  return Eigen::Matrix3d::Identity() + ((1.0 - std::cos(theta)) / t2) * W +
+         ((theta - std::sin(theta)) / (t2 * theta)) * W * W;
+}
+
+// V(omega)^-1 = I - W/2 + (1/t^2) (1 - t sin t / (2 (1 - cos t))) W^2.
+Eigen::Matrix3d InverseLeftJacobianSO3(const Eigen::Vector3d& omega) {
+  const double theta = omega.norm();
+  const Eigen::Matrix3d W = Skew(omega);
+  if (theta < 1e-5) return Eigen::Matrix3d::Identity() - 0.5 * W + (1.0 / 12.0) * W * W;
+  const double t2 = theta * theta;
+  const double c = (1.0 - theta * std::sin(theta) / (2.0 * (1.0 - std::cos(theta)))) / t2;
+  return Eigen::Matrix3d::Identity() - 0.5 * W + c * W * W;
+}
+
+}  // namespace
+
+SE3 ExpSE3(const Vector6d& delta) {
+  const Eigen::Vector3d omega = delta.head<3>();
+  SE3 T = SE3::Identity();
+  T.linear() = ExpSO3(omega).toRotationMatrix();
+  T.translation() = LeftJacobianSO3(omega) * delta.tail<3>();
+  return T;
+}
+
+Vector6d LogSE3(const SE3& T) {
+  const Eigen::AngleAxisd aa(Eigen::Quaterniond(T.linear()).normalized());
+  const Eigen::Vector3d omega = aa.angle() * aa.axis();
+  Vector6d delta;
+  delta.head<3>() = omega;
+  delta.tail<3>() = InverseLeftJacobianSO3(omega) * T.translation();
+  return delta;
+}
+
+void PoseToParams(const SE3& T_cw, double* params7) {
+  const Eigen::Quaterniond q = Eigen::Quaterniond(T_cw.linear()).normalized();
+  params7[0] = q.x();
+  params7[1] = q.y();
+  params7[2] = q.z();
+  params7[3] = q.w();
+  params7[4] = T_cw.translation().x();
+  params7[5] = T_cw.translation().y();
+  params7[6] = T_cw.translation().z();
+}
+
+SE3 ParamsToPose(const double* params7) {
+  const Eigen::Quaterniond q(params7[3], params7[0], params7[1], params7[2]);
+  return MakeSE3(Eigen::Vector3d(params7[4], params7[5], params7[6]), q);
+}
+
+bool PoseManifold::Plus(const double* x, const double* delta, double* x_plus_delta) const {
+  const Eigen::Map<const Eigen::Quaterniond> q(x);
+  const Eigen::Map<const Eigen::Vector3d> t(x + 4);
+  const Eigen::Map<const Vector6d> d(delta);
+  const Eigen::Vector3d omega = d.head<3>();
+  const Eigen::Quaterniond dq = ExpSO3(omega);
+  // Exp(delta) * T = [dR R, dR t + V(omega) upsilon]
+  const Eigen::Quaterniond q_new = (dq * q).normalized();
+  const Eigen::Vector3d t_new = dq * t + LeftJacobianSO3(omega) * d.tail<3>();
+  Eigen::Map<Eigen::Quaterniond> q_out(x_plus_delta);
+  Eigen::Map<Eigen::Vector3d> t_out(x_plus_delta + 4);
+  q_out = q_new;
+  t_out = t_new;
+  return true;
+}
+
+bool PoseManifold::PlusJacobian(const double* /*x*/, double* jacobian) const {
+  Eigen::Map<Eigen::Matrix<double, 7, 6, Eigen::RowMajor>> J(jacobian);
+  J.setZero();
+  J.topRows<6>().setIdentity();
+  return true;
+}
+
+bool PoseManifold::Minus(const double* y, const double* x, double* y_minus_x) const {
+  const SE3 Y = ParamsToPose(y);
+  const SE3 X = ParamsToPose(x);
+  Eigen::Map<Vector6d> out(y_minus_x);
+  out = LogSE3(Y * X.inverse());
+  return true;
+}
+
+bool PoseManifold::MinusJacobian(const double* /*x*/, double* jacobian) const {
+  Eigen::Map<Eigen::Matrix<double, 6, 7, Eigen::RowMajor>> J(jacobian);
+  J.setZero();
+  J.leftCols<6>().setIdentity();
+  return true;
+}
+
+template <int N>
+bool PoseOnlyCost<N>::Evaluate(double const* const* parameters, double* residuals,
+                               double** jacobians) const {
+  const Eigen::Map<const Eigen::Quaterniond> q(parameters[0]);
+  const Eigen::Map<const Eigen::Vector3d> t(parameters[0] + 4);
+  const Eigen::Vector3d X_c = q * X_w_ + t;
+  if (jacobians == nullptr || jacobians[0] == nullptr) {
+    return ProjectionResidual<N>(K_, X_c, obs_, s_, residuals, nullptr);
+  }
+  Eigen::Matrix<double, N, 3> de_dXc;
+  if (!ProjectionResidual<N>(K_, X_c, obs_, s_, residuals, &de_dXc)) return false;
+  Eigen::Map<Eigen::Matrix<double, N, 7, Eigen::RowMajor>> J(jacobians[0]);
+  J.template leftCols<3>() = -de_dXc * Skew(X_c);
+  J.template middleCols<3>(3) = de_dXc;
+  J.col(6).setZero();
+  return true;
+}
+
+template <int N>
+bool BACost<N>::Evaluate(double const* const* parameters, double* residuals,
+                         double** jacobians) const {
+  const Eigen::Map<const Eigen::Quaterniond> q(parameters[0]);
+  const Eigen::Map<const Eigen::Vector3d> t(parameters[0] + 4);
+  const Eigen::Map<const Eigen::Vector3d> X_w(parameters[1]);
+  const Eigen::Vector3d X_c = q * X_w + t;
+  const bool want_pose = jacobians != nullptr && jacobians[0] != nullptr;
+  const bool want_point = jacobians != nullptr && jacobians[1] != nullptr;
+  if (!want_pose && !want_point)
+    return ProjectionResidual<N>(K_, X_c, obs_, s_, residuals, nullptr);
+  Eigen::Matrix<double, N, 3> de_dXc;
+  if (!ProjectionResidual<N>(K_, X_c, obs_, s_, residuals, &de_dXc)) return false;
+  if (want_pose) {
+    Eigen::Map<Eigen::Matrix<double, N, 7, Eigen::RowMajor>> J(jacobians[0]);
+    J.template leftCols<3>() = -de_dXc * Skew(X_c);
+    J.template middleCols<3>(3) = de_dXc;
+    J.col(6).setZero();
+  }
+  if (want_point) {
+    Eigen::Map<Eigen::Matrix<double, N, 3, Eigen::RowMajor>> J(jacobians[1]);
+    J = de_dXc * q.toRotationMatrix();
+  }
+  return true;
+}
+
+template <int N>
+bool RawResidual(const Intrinsics& K, const SE3& T_cw, const Eigen::Vector3d& X_w,
+                 const Eigen::Vector3d& obs, double* e) {
+  return ProjectionResidual<N>(K, T_cw * X_w, obs, 1.0, e, nullptr);
+}
+
+double HuberRho(double s, double delta2) {
+  if (s <= delta2) return s;
+  return 2.0 * std::sqrt(s * delta2) - delta2;
+}
+
+template class PoseOnlyCost<2>;
+template class PoseOnlyCost<3>;
+template class BACost<2>;
+template class BACost<3>;
+template bool RawResidual<2>(const Intrinsics&, const SE3&, const Eigen::Vector3d&,
+                             const Eigen::Vector3d&, double*);
+template bool RawResidual<3>(const Intrinsics&, const SE3&, const Eigen::Vector3d&,
+                             const Eigen::Vector3d&, double*);
+
+}  // namespace dynref::optim

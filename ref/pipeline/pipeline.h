@@ -1,0 +1,45 @@
+// `dynref run`: the frame loop of the backbone with the method's stages at their hooks
+// (stage.h), sequential local mapping, and the run outputs:
+//   RUN/trajectory.txt  every tracked frame, TUM format, T_wc (ORB-SLAM2 SaveTrajectoryTUM:
+//                       frame pose relative to its reference keyframe, composed with the final
+//                       keyframe pose)
+//   RUN/lost.txt        frames without a pose: "<index> <stamp> <reason>"
+//   RUN/keyframes.txt   keyframes (not culled), TUM format, T_wc
+//   RUN/run.json        sequence, method, detections, resolved config, counts, tracking rate,
+//                       per-module ms/frame, end_state
+//   RUN/trace.dtr       trace (ref/trace), unless --trace off
+//   RUN/overlays/       with --overlays: one PNG per processed frame (ref/render)
+#pragma once
+#include <string>
+
+namespace dynref {
+
+struct RunOptions {
+  std::string sequence;
+  std::string out_dir;
+  std::string method = "orb";
+  std::string config_path;       // empty: configs/<method>.yaml
+  std::string trace_level = "frames";
+  std::string detections_dir;    // dynref-detections folder (optional)
+  std::string detector;          // detection source spec (ref/detect), optional
+  std::string camera;            // preset / YAML; empty = auto
+  int first_frame = 0, last_frame = -1;  // inclusive range of sequence indices; -1 = to the end
+  bool progress = true;          // progress line when stderr is a terminal
+  bool overlays = false;         // render RUN/overlays/ after the run (ref/render; needs a trace)
+  void Check() const;            // InputError naming the bad field
+};
+
+struct RunResult {
+  std::string end_state;         // "complete", "lost-at-end", "never-initialised", "error: ..."
+  int exit_code = 0;             // 0 ok, 2 bad input (see ExitCode)
+  int frames = 0, tracked = 0, lost = 0, keyframes = 0;
+};
+
+// Runs the whole sequence; writes every output atomically. Bad input found before the first
+// frame throws InputError; bad input mid-run ends the run cleanly (result.end_state says why).
+RunResult RunSequence(const RunOptions& options);
+
+// Parses "A-B" (inclusive, B may be empty for "to the end") into first/last.
+void ParseFrameRange(const std::string& text, int* first, int* last);
+
+}  // namespace dynref

@@ -1,0 +1,224 @@
+// ORB-SLAM2 ORBmatcher equivalents (src/ORBmatcher.cc); see matcher.h.
+#include "tracking/matcher.h"
+
+#include <cmath>
+
+#include "features/orb_extractor.h"
+
+namespace dynref::tracking {
+namespace {
+
+using features::DescriptorDistance;
+using features::kHistoLength;
+using features::kThHigh;
+using features::kThLow;
+
+const uint8_t* Desc(const Frame& f, int i) { return f.descriptors.ptr<uint8_t>(i); }
+
+// Keeps only matches whose rotation bin is one of the three fullest (ORBmatcher rotHist check).
+int ApplyRotationConsistency(const std::vector<std::vector<int>>& hist, Frame& cur) {
+  int ind1, ind2, ind3;
+  features::ComputeThreeMaxima(hist, &ind1, &ind2, &ind3);
+  int removed = 0;
+  for (int i = 0; i < kHistoLength; ++i) {
+    if (i == ind1 || i == ind2 || i == ind3) continue;
+    for (int idx : hist[i]) {
+      if (cur.map_point_ids[idx] >= 0) {
+        cur.map_point_ids[idx] = -1;
+        ++removed;
+      }
+    }
+  }
+  return removed;
+}
+
+float RadiusByViewingCos(float view_cos) { return view_cos > 0.998f ? 2.5f : 4.0f; }
+
+}  // namespace
+
+bool IsInFrustum(const Frame& f, const MapPoint& p, ProjectedPoint* out) {
+  const Camera& cam = *f.camera;
+  const Eigen::Vector3d X_c = f.T_cw * p.X_w;
+  if (X_c.z() < 0.0) return false;
+  const Eigen::Vector2d uv = ProjectPinhole(cam, X_c);
+  if (uv.x() < f.min_x || uv.x() > f.max_x || uv.y() < f.min_y || uv.y() > f.max_y) return false;
+  const Eigen::Vector3d PO = p.X_w - f.CameraCentre();
+  const double dist = PO.norm();
+  // Scale invariance region (MapPoint::GetMinDistanceInvariance 0.8 / GetMaxDistanceInvariance 1.2).
+  if (dist < 0.8 * p.min_distance || dist > 1.2 * p.max_distance) return false;
+  const double view_cos = PO.dot(p.normal) / dist;
+  if (view_cos < 0.5) return false;
+  out->mp_id = p.id;
+  out->u = static_cast<float>(uv.x());
+  out->v = static_cast<float>(uv.y());
+  out->u_right = static_cast<float>(uv.x() - cam.bf / X_c.z());
+  out->predicted_level = p.PredictScale(static_cast<float>(dist), f.pyramid);
+  out->view_cos = static_cast<float>(view_cos);
+  return true;
+}
+
+int SearchByProjectionLastFrame(Frame& cur, const Frame& last, const Map& map, float th) {
+  const Camera& cam = *cur.camera;
+  std::vector<std::vector<int>> hist(kHistoLength);
+  const SE3 T_lc = last.T_cw * cur.T_cw.inverse();
+  const double tlc_z = T_lc.translation().z();
+  const double b = cam.baseline_m();
+  const bool forward = tlc_z > b;
+  const bool backward = -tlc_z > b;
+  int n = 0;
+  for (size_t i = 0; i < last.N(); ++i) {
+    const int64_t id = last.map_point_ids[i];
+    if (id < 0 || last.outlier[i]) continue;
+    const MapPoint* p = map.good_mp(id);
+    if (p == nullptr) continue;
+    const Eigen::Vector3d X_c = cur.T_cw * p->X_w;
+    const double invz = 1.0 / X_c.z();
+    if (invz < 0) continue;
+    const Eigen::Vector2d uv = ProjectPinhole(cam, X_c);
+    if (uv.x() < cur.min_x || uv.x() > cur.max_x || uv.y() < cur.min_y || uv.y() > cur.max_y) continue;
+    const int last_octave = last.keys_un[i].octave;
+    const float radius = th * cur.pyramid.scale[last_octave];
+    std::vector<int> idx;
+    const float u = static_cast<float>(uv.x()), v = static_cast<float>(uv.y());
+    if (forward) idx = cur.FeaturesInArea(u, v, radius, last_octave);
+    else if (backward) idx = cur.FeaturesInArea(u, v, radius, 0, last_octave);
+    else idx = cur.FeaturesInArea(u, v, radius, last_octave - 1, last_octave + 1);
+    if (idx.empty()) continue;
+    const uint8_t* d_mp = p->descriptor.ptr<uint8_t>(0);
+    int best_dist = 256, best_idx = -1;
+    for (int i2 : idx) {
+      if (cur.map_point_ids[i2] >= 0) continue;
+      if (cur.u_right[i2] > 0) {
+        const double ur = uv.x() - cam.bf * invz;
+        if (std::fabs(ur - cur.u_right[i2]) > radius) continue;
+      }
+      const int dist = DescriptorDistance(d_mp, Desc(cur, i2));
+      if (dist < best_dist) {
+        best_dist = dist;
+        best_idx = i2;
+      }
+    }
+    if (best_dist <= kThHigh) {
+      cur.map_point_ids[best_idx] = id;
+      ++n;
+      hist[features::RotationBin(last.keys_un[i].angle, cur.keys_un[best_idx].angle)].push_back(best_idx);
+    }
+  }
+  n -= ApplyRotationConsistency(hist, cur);
+  return n;
+}
+
+int SearchByProjectionLocal(Frame& cur, const std::vector<ProjectedPoint>& points, const Map& map,
+                            float th, float nn_ratio) {
+  int n = 0;
+  for (const ProjectedPoint& pp : points) {
+    const MapPoint* p = map.good_mp(pp.mp_id);
+    if (p == nullptr) continue;
+    const int level = pp.predicted_level;
+    float r = RadiusByViewingCos(pp.view_cos);
+    r *= th;
+    const float radius = r * cur.pyramid.scale[level];
+    const std::vector<int> idx = cur.FeaturesInArea(pp.u, pp.v, radius, level - 1, level);
+    if (idx.empty()) continue;
+    const uint8_t* d_mp = p->descriptor.ptr<uint8_t>(0);
+    int best_dist = 256, best_level = -1, best_dist2 = 256, best_level2 = -1, best_idx = -1;
+    for (int i2 : idx) {
+      if (cur.map_point_ids[i2] >= 0) {
+        const MapPoint* q = map.good_mp(cur.map_point_ids[i2]);
+        if (q != nullptr && q->n_obs > 0) continue;
+      }
+      if (cur.u_right[i2] > 0 && std::fabs(pp.u_right - cur.u_right[i2]) > radius) continue;
+      const int dist = DescriptorDistance(d_mp, Desc(cur, i2));
+      if (dist < best_dist) {
+        best_dist2 = best_dist;
+        best_level2 = best_level;
+        best_dist = dist;
+        best_level = cur.keys_un[i2].octave;
+        best_idx = i2;
+      } else if (dist < best_dist2) {
+        best_level2 = cur.keys_un[i2].octave;
+        best_dist2 = dist;
+      }
+    }
+    if (best_dist <= kThHigh) {
+      if (best_level == best_level2 && best_dist > nn_ratio * best_dist2) continue;
+      cur.map_point_ids[best_idx] = pp.mp_id;
+      ++n;
+    }
+  }
+  return n;
+}
+
+int SearchByBruteForce(const KeyFrame& kf, Frame& cur, const Map& map, float nn_ratio,
+                       bool check_orientation) {
+  std::vector<std::vector<int>> hist(kHistoLength);
+  const Frame& kff = kf.frame;
+  int n = 0;
+  for (size_t i = 0; i < kf.map_point_ids.size(); ++i) {
+    const int64_t id = kf.map_point_ids[i];
+    if (id < 0 || map.good_mp(id) == nullptr) continue;
+    const uint8_t* d_kf = Desc(kff, static_cast<int>(i));
+    int best1 = 256, best2 = 256, best_idx = -1;
+    for (size_t j = 0; j < cur.N(); ++j) {
+      if (cur.map_point_ids[j] >= 0 || cur.IsExcluded(static_cast<int>(j))) continue;
+      const int dist = DescriptorDistance(d_kf, Desc(cur, static_cast<int>(j)));
+      if (dist < best1) {
+        best2 = best1;
+        best1 = dist;
+        best_idx = static_cast<int>(j);
+      } else if (dist < best2) {
+        best2 = dist;
+      }
+    }
+    if (best1 <= kThLow && static_cast<float>(best1) < nn_ratio * static_cast<float>(best2)) {
+      cur.map_point_ids[best_idx] = id;
+      ++n;
+      if (check_orientation)
+        hist[features::RotationBin(kff.keys_un[i].angle, cur.keys_un[best_idx].angle)].push_back(best_idx);
+    }
+  }
+  if (check_orientation) n -= ApplyRotationConsistency(hist, cur);
+  return n;
+}
+
+int SearchByProjectionKeyFrame(Frame& cur, const KeyFrame& kf, const Map& map,
+                               const std::set<int64_t>& already_found, float th, int orb_dist) {
+  const Camera& cam = *cur.camera;
+  std::vector<std::vector<int>> hist(kHistoLength);
+  const Eigen::Vector3d O_w = cur.CameraCentre();
+  int n = 0;
+  for (size_t i = 0; i < kf.map_point_ids.size(); ++i) {
+    const int64_t id = kf.map_point_ids[i];
+    const MapPoint* p = id >= 0 ? map.good_mp(id) : nullptr;
+    if (p == nullptr || already_found.count(id)) continue;
+    const Eigen::Vector3d X_c = cur.T_cw * p->X_w;
+    if (X_c.z() <= 0) continue;
+    const Eigen::Vector2d uv = ProjectPinhole(cam, X_c);
+    if (uv.x() < cur.min_x || uv.x() > cur.max_x || uv.y() < cur.min_y || uv.y() > cur.max_y) continue;
+    const double dist3 = (p->X_w - O_w).norm();
+    if (dist3 < 0.8 * p->min_distance || dist3 > 1.2 * p->max_distance) continue;
+    const int level = p->PredictScale(static_cast<float>(dist3), cur.pyramid);
+    const float radius = th * cur.pyramid.scale[level];
+    const std::vector<int> idx = cur.FeaturesInArea(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
+                                                    radius, level - 1, level + 1);
+    const uint8_t* d_mp = p->descriptor.ptr<uint8_t>(0);
+    int best_dist = 256, best_idx = -1;
+    for (int i2 : idx) {
+      if (cur.map_point_ids[i2] >= 0) continue;
+      const int dist = DescriptorDistance(d_mp, Desc(cur, i2));
+      if (dist < best_dist) {
+        best_dist = dist;
+        best_idx = i2;
+      }
+    }
+    if (best_idx >= 0 && best_dist <= orb_dist) {
+      cur.map_point_ids[best_idx] = id;
+      ++n;
+      hist[features::RotationBin(kf.frame.keys_un[i].angle, cur.keys_un[best_idx].angle)].push_back(best_idx);
+    }
+  }
+  n -= ApplyRotationConsistency(hist, cur);
+  return n;
+}
+
+}  // namespace dynref::tracking

@@ -1,0 +1,51 @@
+// ORB-SLAM2 ORBmatcher equivalents on dynref Frame / KeyFrame / Map. ORB-SLAM2 restricts
+// keyframe-to-frame matching to features sharing a DBoW2 vocabulary node; dynref has no
+// vocabulary and matches by brute force over all candidate pairs with the same distance
+// threshold (TH_LOW), ratio test and rotation-consistency histogram (issue 5, item 3).
+// Excluded features (Frame::Exclude) are never candidates.
+#pragma once
+#include <cstdint>
+#include <set>
+#include <vector>
+
+#include "map/frame.h"
+#include "map/map.h"
+
+namespace dynref::tracking {
+
+// Pinhole projection of a camera-frame point (undistorted pixels).
+inline Eigen::Vector2d ProjectPinhole(const Camera& cam, const Eigen::Vector3d& X_c) {
+  return {cam.fx * X_c.x() / X_c.z() + cam.cx, cam.fy * X_c.y() / X_c.z() + cam.cy};
+}
+
+// A local map point prepared for projection search (ORB-SLAM2 MapPoint::mbTrackInView & co).
+struct ProjectedPoint {
+  int64_t mp_id = -1;
+  float u = 0, v = 0, u_right = 0;
+  int predicted_level = 0;
+  float view_cos = 0;
+};
+
+// ORB-SLAM2 Frame::isInFrustum(pMP, 0.5).
+bool IsInFrustum(const Frame& f, const MapPoint& p, ProjectedPoint* out);
+
+// Motion-model search (ORBmatcher::SearchByProjection(Frame&, const Frame&, th, bMono=false),
+// with orientation check): projects the last frame's inlier map points into the current frame.
+int SearchByProjectionLastFrame(Frame& cur, const Frame& last, const Map& map, float th);
+
+// Local-map search (ORBmatcher::SearchByProjection(Frame&, vector<MapPoint*>, th), ratio 0.8).
+int SearchByProjectionLocal(Frame& cur, const std::vector<ProjectedPoint>& points, const Map& map,
+                            float th, float nn_ratio = 0.8f);
+
+// Replacement for ORBmatcher::SearchByBoW(KeyFrame*, Frame&): brute force, best distance <=
+// TH_LOW, best < ratio * second best, first-come one-to-one, rotation histogram. Writes the
+// matched map point ids into cur.map_point_ids; returns the number of matches.
+int SearchByBruteForce(const KeyFrame& kf, Frame& cur, const Map& map, float nn_ratio,
+                       bool check_orientation);
+
+// ORBmatcher::SearchByProjection(Frame&, KeyFrame*, set<MapPoint*> sAlreadyFound, th, ORBdist)
+// used by relocalisation.
+int SearchByProjectionKeyFrame(Frame& cur, const KeyFrame& kf, const Map& map,
+                               const std::set<int64_t>& already_found, float th, int orb_dist);
+
+}  // namespace dynref::tracking

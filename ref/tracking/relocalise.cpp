@@ -1,0 +1,184 @@
+// ORB-SLAM2 Tracking::Relocalization with dynref substitutes: candidates are the most recent
+// keyframes (no DBoW2 database), keyframe-to-frame matching is brute force (matcher.h), and the
+// PnP RANSAC is ours (EPnP on minimal sets of 4 drawn from the seeded stream "tracking.reloc",
+// ORB-SLAM2 PnPsolver parameters 0.99 / 10 / 300 / 4 / 0.5 / 5.991) so that no library RNG is
+// involved.
+#include <opencv2/calib3d.hpp>
+
+#include <cmath>
+#include <set>
+
+#include "tracking/matcher.h"
+#include "tracking/tracker.h"
+
+namespace dynref::tracking {
+namespace {
+
+bool SolveEpnp(const std::vector<cv::Point3d>& X, const std::vector<cv::Point2d>& uv, const Camera& cam,
+               SE3* T_cw) {
+  cv::Mat rvec, tvec;
+  const cv::Mat K(cam.K());
+  bool ok = false;
+  try {
+    ok = cv::solvePnP(X, uv, K, cv::noArray(), rvec, tvec, false, cv::SOLVEPNP_EPNP);
+  } catch (const cv::Exception&) {
+    return false;
+  }
+  if (!ok) return false;
+  cv::Mat R;
+  cv::Rodrigues(rvec, R);
+  Eigen::Matrix3d Re;
+  Eigen::Vector3d te;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) Re(r, c) = R.at<double>(r, c);
+    te(r) = tvec.at<double>(r);
+  }
+  if (!Re.allFinite() || !te.allFinite()) return false;
+  T_cw->setIdentity();
+  T_cw->linear() = Re;
+  T_cw->translation() = te;
+  return true;
+}
+
+}  // namespace
+
+bool Tracker::PnpRansac(const Frame& f, const std::vector<int>& idx, const std::vector<Eigen::Vector3d>& X,
+                        SE3* T_cw, std::vector<uint8_t>* inliers) {
+  const int n = static_cast<int>(idx.size());
+  if (n < 4) return false;
+  // ORB-SLAM2 PnPsolver::SetRansacParameters(0.99, 10, 300, 4, 0.5, 5.991).
+  const double probability = 0.99, epsilon = 0.5, th2 = 5.991;
+  const int min_inliers = std::max(10, static_cast<int>(n * epsilon));
+  int iterations = options_.ransac_iterations;
+  if (min_inliers != n) {
+    const double it = std::ceil(std::log(1 - probability) / std::log(1 - std::pow(static_cast<double>(min_inliers) / n, 3)));
+    iterations = std::max(1, std::min(iterations, static_cast<int>(it)));
+  }
+  int best = -1;
+  std::vector<uint8_t> best_inl;
+  SE3 best_T = SE3::Identity();
+  auto score = [&](const SE3& T, std::vector<uint8_t>* inl) {
+    int c = 0;
+    inl->assign(n, 0);
+    for (int k = 0; k < n; ++k) {
+      const Eigen::Vector3d Xc = T * X[k];
+      if (Xc.z() <= 0) continue;
+      const Eigen::Vector2d p = ProjectPinhole(camera_, Xc);
+      const cv::KeyPoint& kp = f.keys_un[idx[k]];
+      const double e2 = (p - Eigen::Vector2d(kp.pt.x, kp.pt.y)).squaredNorm();
+      if (e2 < th2 * f.pyramid.sigma2[kp.octave]) {
+        (*inl)[k] = 1;
+        ++c;
+      }
+    }
+    return c;
+  };
+  for (int it = 0; it < iterations; ++it) {
+    std::vector<int> sample;
+    while (sample.size() < 4) {
+      const int s = static_cast<int>(rng_.UniformInt(0, n - 1));
+      if (std::find(sample.begin(), sample.end(), s) == sample.end()) sample.push_back(s);
+    }
+    std::vector<cv::Point3d> Xs;
+    std::vector<cv::Point2d> us;
+    for (int s : sample) {
+      Xs.emplace_back(X[s].x(), X[s].y(), X[s].z());
+      us.emplace_back(f.keys_un[idx[s]].pt.x, f.keys_un[idx[s]].pt.y);
+    }
+    SE3 T;
+    if (!SolveEpnp(Xs, us, camera_, &T)) continue;
+    std::vector<uint8_t> inl;
+    const int c = score(T, &inl);
+    if (c > best) {
+      best = c;
+      best_inl = inl;
+      best_T = T;
+    }
+  }
+  if (best < min_inliers) return false;
+  // Refine with all inliers (ORB-SLAM2 PnPsolver::Refine), keep it when it does not lose inliers.
+  std::vector<cv::Point3d> Xs;
+  std::vector<cv::Point2d> us;
+  for (int k = 0; k < n; ++k) {
+    if (!best_inl[k]) continue;
+    Xs.emplace_back(X[k].x(), X[k].y(), X[k].z());
+    us.emplace_back(f.keys_un[idx[k]].pt.x, f.keys_un[idx[k]].pt.y);
+  }
+  SE3 T_ref;
+  if (SolveEpnp(Xs, us, camera_, &T_ref)) {
+    std::vector<uint8_t> inl;
+    if (score(T_ref, &inl) >= best) {
+      best_T = T_ref;
+      best_inl = inl;
+    }
+  }
+  *T_cw = best_T;
+  *inliers = best_inl;
+  return true;
+}
+
+bool Tracker::Relocalise(Frame& f) {
+  std::vector<int64_t> candidates;
+  for (auto it = map_.keyframes.rbegin(); it != map_.keyframes.rend(); ++it) {
+    if (it->second->bad) continue;
+    candidates.push_back(it->first);
+    if (static_cast<int>(candidates.size()) >= options_.reloc_recent_keyframes) break;
+  }
+  trace_.FrameCount("track.reloc", "candidates", static_cast<int64_t>(candidates.size()));
+  for (int64_t kf_id : candidates) {
+    const KeyFrame& kf = *map_.kf(kf_id);
+    std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
+    const int n = SearchByBruteForce(kf, f, map_, 0.75f, true);
+    if (n < 15) continue;
+    std::vector<int> idx;
+    std::vector<Eigen::Vector3d> X;
+    for (size_t i = 0; i < f.N(); ++i) {
+      if (f.map_point_ids[i] < 0) continue;
+      idx.push_back(static_cast<int>(i));
+      X.push_back(map_.mp(f.map_point_ids[i])->X_w);
+    }
+    SE3 T;
+    std::vector<uint8_t> inl;
+    if (!PnpRansac(f, idx, X, &T, &inl)) continue;
+    for (size_t k = 0; k < idx.size(); ++k)
+      if (!inl[k]) f.map_point_ids[idx[k]] = -1;
+    f.T_cw = T;
+    int good = OptimizePose(f);
+    if (good < 10) continue;
+    auto drop_outliers = [&]() {
+      for (size_t i = 0; i < f.N(); ++i)
+        if (f.outlier[i]) {
+          f.map_point_ids[i] = -1;
+          f.outlier[i] = 0;
+        }
+    };
+    drop_outliers();
+    auto found_set = [&]() {
+      std::set<int64_t> s;
+      for (int64_t id : f.map_point_ids)
+        if (id >= 0) s.insert(id);
+      return s;
+    };
+    if (good < 50) {
+      const int add = SearchByProjectionKeyFrame(f, kf, map_, found_set(), 10, 100);
+      if (add + good >= 50) {
+        good = OptimizePose(f);
+        if (good > 30 && good < 50) {
+          drop_outliers();
+          const int add2 = SearchByProjectionKeyFrame(f, kf, map_, found_set(), 3, 64);
+          if (good + add2 >= 50) good = OptimizePose(f);
+        }
+        drop_outliers();
+      }
+    }
+    if (good >= 50) {
+      last_reloc_frame_ = f.index;
+      trace_.FrameCount("track.reloc", "inliers", good);
+      return true;
+    }
+  }
+  std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
+  return false;
+}
+
+}  // namespace dynref::tracking

@@ -1,0 +1,98 @@
+// ORB-SLAM2 Tracking (RGB-D, SLAM mode) as explicit steps the pipeline calls in frame order, so
+// that method stages run between them (ref/pipeline/stage.h). Single-threaded: local mapping
+// runs after each keyframe (ref/mapping), so ORB-SLAM2's "local mapping idle" is always true.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/rng.h"
+#include "map/frame.h"
+#include "map/map.h"
+#include "trace/trace_writer.h"
+
+namespace dynref::tracking {
+
+struct TrackerOptions {
+  int min_init_points = 500;   // ORB-SLAM2 StereoInitialization: N > 500 (here: with depth)
+  int max_frames = 30;         // ORB-SLAM2 mMaxFrames = fps
+  int min_frames = 0;          // ORB-SLAM2 mMinFrames
+  int reloc_recent_keyframes = 10;  // relocalisation candidates (no BoW database: most recent)
+  int ransac_iterations = 300; // ORB-SLAM2 PnPsolver SetRansacParameters(0.99, 10, 300, 4, 0.5, 5.991)
+  uint64_t seed = 1;
+  void Check() const;
+};
+
+enum class TrackState { kNotInitialised, kOk, kLost };
+const char* TrackStateName(TrackState s);
+
+// Per-frame record for the trajectory (ORB-SLAM2 mlRelativeFramePoses / mlbLost).
+struct FrameRecord {
+  int index = 0;
+  double stamp = 0;
+  std::string stamp_text;
+  int64_t ref_kf = -1;
+  SE3 T_cr = SE3::Identity();  // camera from reference keyframe
+  bool lost = true;
+};
+
+class Tracker {
+ public:
+  Tracker(const Camera& camera, Map& map, const TrackerOptions& options, trace::TraceWriter& trace);
+
+  TrackState state() const { return state_; }
+  const Frame* last_frame() const { return has_last_ ? &last_ : nullptr; }
+  KeyFrame* reference_kf() { return map_.kf(reference_kf_); }
+  const std::vector<FrameRecord>& records() const { return records_; }
+
+  // Map initialisation from f when it has enough non-excluded features with depth: pose
+  // identity, a keyframe and one map point per such feature. Returns the keyframe or nullptr.
+  KeyFrame* TryInitialise(Frame& f);
+  // Initial pose: motion model (else reference keyframe), or relocalisation when lost; each with
+  // pose optimisation ("track.pose#1"...). Returns success.
+  bool TrackInitial(Frame& f);
+  // Local map search (ORB-SLAM2 UpdateLocalMap + SearchLocalPoints), no optimisation.
+  void SearchLocalMap(Frame& f);
+  // Final pose optimisation and ORB-SLAM2's TrackLocalMap success test.
+  bool OptimizeFinal(Frame& f);
+  bool NeedNewKeyFrame(const Frame& f) const;
+  KeyFrame* CreateNewKeyFrame(Frame& f);
+  // Ends the frame: velocity, outlier cleanup, last frame, trajectory record.
+  void FinishFrame(Frame& f, bool ok);
+  int matches_inliers() const { return matches_inliers_; }
+  int pose_calls() const { return pose_call_; }
+
+ private:
+  int OptimizePose(Frame& f);                     // returns inliers (map points with obs)
+  int DiscardOutliers(Frame& f);                  // returns matches with map observations
+  bool TrackWithMotionModel(Frame& f);
+  bool TrackReferenceKeyFrame(Frame& f);
+  bool Relocalise(Frame& f);
+  bool PnpRansac(const Frame& f, const std::vector<int>& idx, const std::vector<Eigen::Vector3d>& X,
+                 SE3* T_cw, std::vector<uint8_t>* inliers);
+  void UpdateLocalKeyFrames(Frame& f);
+  void UpdateLastFramePose();
+  void CheckReplacedInLastFrame();
+
+  const Camera& camera_;
+  Map& map_;
+  TrackerOptions options_;
+  trace::TraceWriter& trace_;
+  Rng rng_;
+  TrackState state_ = TrackState::kNotInitialised;
+  Frame last_;
+  bool has_last_ = false;
+  SE3 velocity_ = SE3::Identity();
+  bool has_velocity_ = false;
+  int64_t reference_kf_ = -1;
+  int last_kf_frame_ = -1;
+  int last_reloc_frame_ = -1000000;
+  int matches_inliers_ = 0;
+  int pose_call_ = 0;
+  int current_frame_ = -1;
+  std::vector<int64_t> local_kfs_;
+  std::vector<FrameRecord> records_;
+};
+
+}  // namespace dynref::tracking

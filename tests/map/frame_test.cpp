@@ -1,0 +1,77 @@
+// Frame: depth lookup, virtual right coordinate, grid search, exclusion and weights.
+#include <catch2/catch.hpp>
+
+#include "map/frame.h"
+
+using dynref::Camera;
+using dynref::Frame;
+
+namespace {
+Frame MakeFrame(const Camera& cam) {
+  Frame f;
+  f.index = 7;
+  f.depth_m = cv::Mat(cam.height, cam.width, CV_32F, cv::Scalar(2.0f));
+  f.depth_m.at<float>(100, 50) = 0.0f;  // hole under the second key
+  for (int i = 0; i < 20; ++i) {
+    cv::KeyPoint kp(cv::Point2f(10.f + 30.f * i, 100.f), 31.f, 0.f, 1.f, i % 3);
+    f.keys.push_back(kp);
+  }
+  f.keys[1].pt = {50.f, 100.f};
+  f.descriptors = cv::Mat::zeros(20, 32, CV_8U);
+  f.pyramid = dynref::ScalePyramid::Make(8, 1.2);
+  f.FinishFeatures(cam);
+  return f;
+}
+Camera Cam() {
+  Camera c;
+  c.fx = c.fy = 500;
+  c.cx = 320;
+  c.cy = 240;
+  c.bf = 40;
+  return c;
+}
+}  // namespace
+
+TEST_CASE("frame: depth per key and virtual right u = u - bf / z") {
+  const Camera cam = Cam();
+  const Frame f = MakeFrame(cam);
+  REQUIRE(f.N() == 20);
+  CHECK(f.depth[0] == Approx(2.0));
+  CHECK(f.u_right[0] == Approx(10.0 - 40.0 / 2.0));
+  CHECK(f.depth[1] < 0);
+  CHECK(f.u_right[1] < 0);
+  CHECK(f.IsClose(0));  // 2 m < 40 * 0.08 m
+  const Eigen::Vector3d X = f.UnprojectWorld(0);
+  CHECK(X.z() == Approx(2.0));
+  CHECK(X.x() == Approx((10.0 - 320.0) * 2.0 / 500.0));
+}
+
+TEST_CASE("frame: area search honours radius, levels and exclusion") {
+  const Camera cam = Cam();
+  Frame f = MakeFrame(cam);
+  auto in = f.FeaturesInArea(100.f, 100.f, 16.f);
+  REQUIRE(in.size() == 1);
+  CHECK(in[0] == 3);  // x = 100
+  in = f.FeaturesInArea(100.f, 100.f, 40.f);
+  CHECK(in.size() == 3);
+  in = f.FeaturesInArea(100.f, 100.f, 40.f, 1, 1);  // octave of key 2,3,4 = 2,0,1
+  REQUIRE(in.size() == 1);
+  CHECK(in[0] == 4);
+  f.map_point_ids[3] = 42;
+  f.Exclude(3, "test.stage", "because");
+  CHECK(f.IsExcluded(3));
+  CHECK(f.map_point_ids[3] == -1);
+  CHECK(f.ExcludedCount() == 1);
+  in = f.FeaturesInArea(100.f, 100.f, 16.f);
+  CHECK(in.empty());
+}
+
+TEST_CASE("frame: weights default to 1 and are per feature") {
+  const Camera cam = Cam();
+  Frame f = MakeFrame(cam);
+  CHECK(f.Weight(5) == 1.0);
+  f.SetWeight(5, 0.25);
+  CHECK(f.Weight(5) == 0.25);
+  CHECK(f.Weight(6) == 1.0);
+  CHECK(f.FeatureId(5) == "f7.5");
+}
