@@ -18,6 +18,26 @@ void TrackerOptions::Check() const {
   if (ransac_iterations < 1) throw InputError("tracker options", "ransac_iterations must be >= 1");
 }
 
+namespace {
+
+// A keyframe snapshot of a tracked frame: pose, associations and the rgb/depth images the
+// method stages read; no grey image, no detections or trace pointers (they die with the frame).
+std::unique_ptr<KeyFrame> KeyFrameFromFrame(const Frame& f) {
+  auto kf = std::make_unique<KeyFrame>();
+  kf->frame = f;
+  kf->frame.detections = nullptr;
+  kf->frame.trace = nullptr;
+  kf->frame.grey.release();
+  kf->frame_index = f.index;
+  kf->stamp = f.stamp;
+  kf->stamp_text = f.stamp_text;
+  kf->T_cw = f.T_cw;
+  kf->map_point_ids = f.map_point_ids;
+  return kf;
+}
+
+}  // namespace
+
 const char* TrackStateName(TrackState s) {
   switch (s) {
     case TrackState::kNotInitialised: return "not_initialised";
@@ -289,17 +309,7 @@ KeyFrame* Tracker::CreateNewKeyFrame(Frame& f) {
   // keyframe until local mapping; dropping them is the cleaner equivalent).
   for (size_t i = 0; i < f.N(); ++i)
     if (f.outlier[i]) f.map_point_ids[i] = -1;
-  auto kf = std::make_unique<KeyFrame>();
-  kf->frame = f;
-  kf->frame.detections = nullptr;
-  kf->frame.trace = nullptr;
-  kf->frame.grey.release();  // keyframes keep rgb and depth_m for the stages, not grey
-  kf->frame_index = f.index;
-  kf->stamp = f.stamp;
-  kf->stamp_text = f.stamp_text;
-  kf->T_cw = f.T_cw;
-  kf->map_point_ids = f.map_point_ids;
-  KeyFrame* k = map_.AddKeyFrame(std::move(kf));
+  KeyFrame* k = map_.AddKeyFrame(KeyFrameFromFrame(f));
   k->parent = reference_kf_;
   reference_kf_ = k->id;
   // New map points from depth, closest first, until 100 beyond the close threshold (ORB-SLAM2
@@ -347,17 +357,7 @@ KeyFrame* Tracker::TryInitialise(Frame& f) {
   f.T_cw = SE3::Identity();
   f.has_pose = true;
   std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
-  auto kf = std::make_unique<KeyFrame>();
-  kf->frame = f;
-  kf->frame.detections = nullptr;
-  kf->frame.trace = nullptr;
-  kf->frame.grey.release();  // keyframes keep rgb and depth_m for the stages, not grey
-  kf->frame_index = f.index;
-  kf->stamp = f.stamp;
-  kf->stamp_text = f.stamp_text;
-  kf->T_cw = f.T_cw;
-  kf->map_point_ids.assign(f.N(), -1);
-  KeyFrame* k = map_.AddKeyFrame(std::move(kf));
+  KeyFrame* k = map_.AddKeyFrame(KeyFrameFromFrame(f));
   for (size_t i = 0; i < f.N(); ++i) {
     if (!(f.depth[i] > 0) || f.IsExcluded(static_cast<int>(i))) continue;
     MapPoint* p = map_.NewMapPoint(f.UnprojectWorld(static_cast<int>(i)), k->id, f.index);
