@@ -1,0 +1,117 @@
+#include "dense/dense_map.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace dynref::dense {
+
+void DenseMapOptions::Check() const {
+  if (!(keyframe_leaf_m > 0)) throw std::invalid_argument("keyframe_leaf_m must be > 0");
+  if (!(global_leaf_m > 0)) throw std::invalid_argument("global_leaf_m must be > 0");
+  if (filter_every_keyframes < 1) throw std::invalid_argument("filter_every_keyframes must be >= 1");
+  if (!(min_depth_m >= 0 && max_depth_m > min_depth_m))
+    throw std::invalid_argument("min_depth_m/max_depth_m must satisfy 0 <= min < max");
+  if (pixel_stride < 1) throw std::invalid_argument("pixel_stride must be >= 1");
+  sor.Check();
+}
+
+bool ClassColour(int class_id, uint8_t& r, uint8_t& g, uint8_t& b) {
+  if (class_id < 0) return false;
+  if (class_id == 62) {  // tv (monitor): green, Fig. 8c
+    r = 0, g = 255, b = 0;
+    return true;
+  }
+  if (class_id == 56) {  // chair: red, Fig. 8c
+    r = 255, g = 0, b = 0;
+    return true;
+  }
+  // Fixed palette: hue from the class id (golden-ratio steps), full saturation.
+  const double h = std::fmod(class_id * 0.61803398874989485, 1.0) * 6.0;
+  const int i = static_cast<int>(h);
+  const double f = h - i;
+  const uint8_t q = static_cast<uint8_t>(std::lround(255 * (1 - f)));
+  const uint8_t t = static_cast<uint8_t>(std::lround(255 * f));
+  switch (i % 6) {
+    case 0: r = 255, g = t, b = 0; break;
+    case 1: r = q, g = 255, b = 0; break;
+    case 2: r = 0, g = 255, b = t; break;
+    case 3: r = 0, g = q, b = 255; break;
+    case 4: r = t, g = 0, b = 255; break;
+    default: r = 255, g = 0, b = q; break;
+  }
+  return true;
+}
+
+PointCloud BackProjectKeyframe(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& exclude,
+                               const cv::Mat& class_labels, const Camera& camera,
+                               const DenseMapOptions& options) {
+  options.Check();
+  if (bgr.type() != CV_8UC3 || depth_m.type() != CV_32F || bgr.size() != depth_m.size())
+    throw std::invalid_argument("BackProjectKeyframe: need CV_8UC3 colour and CV_32F depth of equal size");
+  if (!exclude.empty() && (exclude.type() != CV_8U || exclude.size() != depth_m.size()))
+    throw std::invalid_argument("BackProjectKeyframe: exclude mask must be CV_8U of image size");
+  if (!class_labels.empty() && (class_labels.type() != CV_16S || class_labels.size() != depth_m.size()))
+    throw std::invalid_argument("BackProjectKeyframe: class labels must be CV_16S of image size");
+  PointCloud out;
+  const int s = options.pixel_stride;
+  for (int v = 0; v < depth_m.rows; v += s) {
+    for (int u = 0; u < depth_m.cols; u += s) {
+      const float z = depth_m.at<float>(v, u);
+      if (!(z >= options.min_depth_m && z <= options.max_depth_m)) continue;
+      if (!exclude.empty() && exclude.at<uint8_t>(v, u) != 0) continue;
+      ColoredPoint p;
+      p.x = static_cast<float>((u - camera.cx) * z / camera.fx);
+      p.y = static_cast<float>((v - camera.cy) * z / camera.fy);
+      p.z = z;
+      const cv::Vec3b c = bgr.at<cv::Vec3b>(v, u);
+      p.b = c[0], p.g = c[1], p.r = c[2];
+      if (!class_labels.empty()) p.class_id = class_labels.at<int16_t>(v, u);
+      if (options.colour_by_class) ClassColour(p.class_id, p.r, p.g, p.b);
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
+DenseMap::DenseMap(const DenseMapOptions& options) : options_(options) { options_.Check(); }
+
+KeyframeInsertStats DenseMap::AddKeyframe(const cv::Mat& bgr, const cv::Mat& depth_m,
+                                          const cv::Mat& exclude, const cv::Mat& class_labels,
+                                          const Camera& camera, const SE3& T_wc) {
+  KeyframeInsertStats st;
+  const PointCloud local = BackProjectKeyframe(bgr, depth_m, exclude, class_labels, camera, options_);
+  st.back_projected = static_cast<int64_t>(local.size());
+  // Single-frame voxel downsampling in the camera frame, then transform to world.
+  const PointCloud voxel = VoxelDownsample(local, options_.keyframe_leaf_m);
+  st.after_voxel = static_cast<int64_t>(voxel.size());
+  const Eigen::Matrix3d R = T_wc.linear();
+  const Eigen::Vector3d t = T_wc.translation();
+  for (ColoredPoint p : voxel) {
+    const Eigen::Vector3d w = R * Eigen::Vector3d(p.x, p.y, p.z) + t;
+    p.x = static_cast<float>(w.x()), p.y = static_cast<float>(w.y()), p.z = static_cast<float>(w.z());
+    cloud_.push_back(p);
+  }
+  ++keyframes_;
+  if (++since_filter_ >= options_.filter_every_keyframes) {
+    st.sor_removed = FilterGlobal();
+    st.global_filter_ran = true;
+  }
+  st.map_points = static_cast<int64_t>(cloud_.size());
+  return st;
+}
+
+int64_t DenseMap::FilterGlobal() {
+  since_filter_ = 0;
+  const size_t before = cloud_.size();
+  PointCloud kept = StatisticalOutlierRemoval(cloud_, options_.sor);
+  const int64_t removed = static_cast<int64_t>(before - kept.size());
+  cloud_ = VoxelDownsample(kept, options_.global_leaf_m);
+  return removed;
+}
+
+int64_t DenseMap::Finish() {
+  if (!options_.final_filter || since_filter_ == 0) return 0;
+  return FilterGlobal();
+}
+
+}  // namespace dynref::dense

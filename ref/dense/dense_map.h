@@ -1,0 +1,70 @@
+// Dense static point-cloud map built on keyframes (seed 001, Sec. 3.6, Fig. 5):
+//   per new keyframe: back-project every pixel with valid depth that is not in the dynamic mask,
+//   colour = RGB (recognised static objects optionally recoloured by class, spec 001 E10),
+//   single-frame voxel downsample (leaf keyframe_leaf_m), transform to world, append;
+//   every `filter_every_keyframes` keyframes: SOR then voxel grid (global_leaf_m) on the whole map.
+// Keyframe poses are taken as given at insertion (the paper's online mapping thread); later BA
+// corrections are not re-applied.
+#pragma once
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "core/se3.h"
+#include "dense/filters.h"
+#include "dense/point_cloud.h"
+#include "io/camera.h"
+
+namespace dynref::dense {
+
+struct DenseMapOptions {
+  double keyframe_leaf_m = 0.01;   // v_kf, not stated (spec 001 (c))
+  double global_leaf_m = 0.01;     // v_glob, not stated
+  int filter_every_keyframes = 10; // N_map, not stated ("cumulative number of frames")
+  SorOptions sor;                  // k_sor = 50, std_mult = 1.0 (PCL tutorial)
+  double min_depth_m = 0.1;        // not stated: below the Kinect minimum range
+  double max_depth_m = 6.0;        // not stated: Kinect noise grows ~z^2, TUM scenes < 6 m
+  int pixel_stride = 1;            // 1 = every pixel (paper); > 1 only for fast tests
+  bool colour_by_class = true;     // Fig. 8c: monitor green, chair red (E10)
+  bool final_filter = true;        // one SOR + voxel pass at Finish() if keyframes were added
+  void Check() const;
+};
+
+// Colour of a recognised static class: tv/monitor green, chair red (Fig. 8c); other classes a
+// fixed palette by id. Returns false for class_id < 0.
+bool ClassColour(int class_id, uint8_t& r, uint8_t& g, uint8_t& b);
+
+// One keyframe's cloud in the CAMERA frame, before voxelisation. bgr CV_8UC3, depth CV_32F m,
+// exclude CV_8U (non-zero = dynamic, skipped) or empty, class_labels CV_16S (-1 none) or empty.
+// Pixel (u, v) is back-projected with the pinhole model (no undistortion: TUM fr3 / synthetic).
+PointCloud BackProjectKeyframe(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& exclude,
+                               const cv::Mat& class_labels, const Camera& camera,
+                               const DenseMapOptions& options);
+
+struct KeyframeInsertStats {
+  int64_t back_projected = 0;
+  int64_t after_voxel = 0;
+  int64_t map_points = 0;
+  bool global_filter_ran = false;
+  int64_t sor_removed = 0;
+};
+
+class DenseMap {
+ public:
+  explicit DenseMap(const DenseMapOptions& options);
+  KeyframeInsertStats AddKeyframe(const cv::Mat& bgr, const cv::Mat& depth_m,
+                                  const cv::Mat& exclude, const cv::Mat& class_labels,
+                                  const Camera& camera, const SE3& T_wc);
+  // Final filter (if enabled and keyframes were added since the last one). Returns SOR removals.
+  int64_t Finish();
+  const PointCloud& cloud() const { return cloud_; }
+  int keyframes() const { return keyframes_; }
+
+ private:
+  int64_t FilterGlobal();
+  DenseMapOptions options_;
+  PointCloud cloud_;
+  int keyframes_ = 0;
+  int since_filter_ = 0;
+};
+
+}  // namespace dynref::dense

@@ -1,0 +1,149 @@
+// sgdo.coarse (kBeforeInitialPose). seed 001, Sec. 3.3, Eq. (5): coarse rejection.
+//   a. LK pairs: each current keypoint tracked back into frame k-1 (spec 001 E2);
+//   b. pairs pruned for F: LK failure, border b_edge, 3x3 SAD > c_patch, P2 in M;
+//   c. F by RANSAC 7-point with Rng(seed, "sgdo.F") (one stream per run, drawn in frame order);
+//   d. D per tracked keypoint (Eq. 5), geometric-dynamic iff D > th_epi;
+//   e. combination with M per `combination` (spec 001 E1, see coarse.h).
+// Coordinates: raw keypoint positions for LK; undistorted (cv::undistortPoints, K kept) for F
+// and D when the camera has distortion (TUM fr3 and synthetic: none).
+#include <opencv2/calib3d.hpp>
+
+#include "dynamic/sgdo/stages.h"
+
+namespace dynref::sgdo {
+
+CoarseStage::CoarseStage(const ParamMap& p, std::shared_ptr<Blackboard> board)
+    : board_(std::move(board)), rng_(static_cast<uint64_t>(p.GetInt("ransac_seed")), "sgdo.F") {
+  RequireKnownKeys(p, {"combination", "th_epi_px", "vote_ratio", "lk_window_px", "lk_max_level",
+                       "lk_max_iterations", "lk_epsilon", "border_px", "patch_sad_max",
+                       "ransac_threshold_px", "ransac_confidence", "ransac_max_iterations",
+                       "ransac_seed"});
+  coarse_.mode = [&] {
+    try {
+      return ParseCoarseMode(p.GetString("combination"));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(p.Get("combination").file, p.Get("combination").line, e.what());
+    }
+  }();
+  if (coarse_.mode == CoarseMode::kMaskOnly)
+    throw InputError(p.file, p.line, "sgdo.coarse: mask_only is the (S) variant: use sgdo.mask reject_in_mask");
+  coarse_.epipolar_threshold_px = p.GetDouble("th_epi_px");
+  coarse_.vote_ratio = p.GetDouble("vote_ratio");
+  lk_.window_px = static_cast<int>(p.GetInt("lk_window_px"));
+  lk_.max_level = static_cast<int>(p.GetInt("lk_max_level"));
+  lk_.max_iterations = static_cast<int>(p.GetInt("lk_max_iterations"));
+  lk_.epsilon = p.GetDouble("lk_epsilon");
+  lk_.border_px = static_cast<int>(p.GetInt("border_px"));
+  lk_.patch_sad_max = p.GetDouble("patch_sad_max");
+  ransac_.inlier_threshold_px = p.GetDouble("ransac_threshold_px");
+  ransac_.confidence = p.GetDouble("ransac_confidence");
+  ransac_.max_iterations = static_cast<int>(p.GetInt("ransac_max_iterations"));
+  try {
+    coarse_.Check();
+    lk_.Check();
+    ransac_.Check();
+  } catch (const std::invalid_argument& e) {
+    throw InputError(p.file, p.line, "stage sgdo.coarse: " + std::string(e.what()));
+  }
+}
+
+void CoarseStage::Run(StageContext& ctx) {
+  Frame& f = ctx.frame;
+  const int n = static_cast<int>(f.N());
+  const bool uses_mask = coarse_.mode != CoarseMode::kEpipolarOnly;
+  if (uses_mask && !board_->Has(f))
+    throw std::logic_error("sgdo.coarse with combination " + std::string(CoarseModeName(coarse_.mode)) +
+                           " needs sgdo.mask earlier in the stage list");
+  const DynamicMask* mask = uses_mask ? &board_->mask : nullptr;
+  trace::TraceWriter& tr = ctx.trace;
+
+  std::vector<CoarseInput> inputs(n);
+  std::vector<int> candidates;  // non-excluded keypoints, ascending index
+  for (int i = 0; i < n; ++i) {
+    if (f.IsExcluded(i)) continue;
+    candidates.push_back(i);
+    if (mask) inputs[i].instance = mask->InstanceAt(f.keys[i].pt.x, f.keys[i].pt.y);
+  }
+
+  std::vector<LkPair> pairs;
+  const Frame* prev = ctx.previous;
+  if (prev != nullptr && !prev->grey.empty() && !candidates.empty()) {
+    std::vector<cv::Point2f> pts;
+    for (int i : candidates) pts.push_back(f.keys[i].pt);
+    pairs = TrackBackward(prev->grey, f.grey, pts, lk_);
+    for (size_t c = 0; c < candidates.size(); ++c)
+      PrunePair(prev->grey, f.grey, inputs[candidates[c]].instance != 0, lk_, pairs[c]);
+    if (ctx.camera.HasDistortion()) {  // F and D on undistorted coordinates
+      std::vector<cv::Point2f> a, b, ua, ub;
+      for (const LkPair& pr : pairs) a.push_back(pr.p_prev), b.push_back(pr.p_cur);
+      const cv::Mat K(ctx.camera.K()), D = ctx.camera.DistCoeffs();
+      cv::undistortPoints(a, ua, K, D, cv::noArray(), K);
+      cv::undistortPoints(b, ub, K, D, cv::noArray(), K);
+      for (size_t c = 0; c < pairs.size(); ++c) pairs[c].p_prev = ua[c], pairs[c].p_cur = ub[c];
+    }
+  }
+
+  // c. RANSAC on the usable pairs.
+  std::vector<Correspondence> usable;
+  std::vector<size_t> usable_of;  // index into pairs
+  for (size_t c = 0; c < pairs.size(); ++c)
+    if (pairs[c].usable_for_F()) {
+      usable.push_back({{pairs[c].p_prev.x, pairs[c].p_prev.y}, {pairs[c].p_cur.x, pairs[c].p_cur.y}});
+      usable_of.push_back(c);
+    }
+  const RansacResult F = RansacFundamental(usable, ransac_, rng_);
+  std::vector<uint8_t> f_inlier(pairs.size(), 0);
+  for (size_t u = 0; u < usable_of.size() && F.valid; ++u) f_inlier[usable_of[u]] = F.inliers[u];
+
+  // d. Epipolar distance per tracked keypoint.
+  int64_t tracked = 0;
+  for (size_t c = 0; c < pairs.size(); ++c) {
+    const LkPair& pr = pairs[c];
+    const int i = candidates[c];
+    if (!pr.tracked) continue;
+    ++tracked;
+    if (!F.valid) continue;
+    CoarseInput& in = inputs[i];
+    in.has_distance = true;
+    in.epipolar_distance_px = EpipolarDistance(F.F, {pr.p_prev.x, pr.p_prev.y}, {pr.p_cur.x, pr.p_cur.y});
+    const bool dyn = in.epipolar_distance_px > coarse_.epipolar_threshold_px;
+    tr.ProbabilityUpdate("sgdo.epipolar", trace::EntityKind::kFeature, f.FeatureId(i),
+                         {{"u_prev", pr.p_prev.x}, {"v_prev", pr.p_prev.y}, {"u_cur", pr.p_cur.x},
+                          {"v_cur", pr.p_cur.y}, {"D_px", in.epipolar_distance_px},
+                          {"th_epi_px", coarse_.epipolar_threshold_px},
+                          {"instance", static_cast<double>(in.instance)},
+                          {"used_for_F", pr.usable_for_F() ? 1.0 : 0.0},
+                          {"F_inlier", f_inlier[c] ? 1.0 : 0.0}, {"patch_sad", pr.patch_sad}},
+                         0.0, dyn ? 1.0 : 0.0);  // p(dynamic): 1 = geometric-dynamic
+  }
+
+  // e. Combination and decisions (candidates only; already excluded keys are left alone).
+  std::vector<CoarseInput> cand_inputs;
+  for (int i : candidates) cand_inputs.push_back(inputs[i]);
+  const CoarseResult res = CombineCoarse(cand_inputs, coarse_);
+  for (const auto& v : res.votes) {
+    const std::string id = "i" + std::to_string(f.index) + "." + std::to_string(v.instance);
+    tr.ProbabilityUpdate("sgdo.vote", trace::EntityKind::kInstanceMask, id,
+                         {{"dynamic", static_cast<double>(v.dynamic)},
+                          {"paired", static_cast<double>(v.paired)}, {"vote_ratio", coarse_.vote_ratio}},
+                         0.0, v.moving ? 1.0 : 0.0);  // p(dynamic) of the instance
+  }
+  std::map<std::string, int64_t> by_reason;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    const CoarseDecision& d = res.decisions[c];
+    ++by_reason[d.reason];
+    if (d.keep)
+      tr.Decision(name(), trace::EntityKind::kFeature, f.FeatureId(candidates[c]), true, d.reason);
+    else
+      f.Exclude(candidates[c], name(), d.reason);
+  }
+  int64_t usable_count = static_cast<int64_t>(usable.size());
+  tr.FrameCount(name(), "tracked", tracked);
+  tr.FrameCount(name(), "usable_for_F", usable_count);
+  tr.FrameCount(name(), "F_valid", F.valid ? 1 : 0);
+  tr.FrameCount(name(), "F_inliers", F.inlier_count);
+  tr.FrameCount(name(), "ransac_iterations", F.iterations);
+  for (const auto& [reason, count] : by_reason) tr.FrameCount(name(), "decision:" + reason, count);
+}
+
+}  // namespace dynref::sgdo

@@ -1,0 +1,88 @@
+// sgdo.mask (kAfterExtraction). seed 001, Sec. 3.2: M = union of prior-dynamic instance masks,
+// dilated (spec 001 E3: classes, confidence and kernel not stated). With reject_in_mask = true
+// this is the (S) ablation of Fig. 11b: every keypoint in M is rejected.
+#include <algorithm>
+
+#include "dynamic/sgdo/stage_common.h"
+#include "dynamic/sgdo/stages.h"
+#include "io/coco_classes.h"
+
+namespace dynref::sgdo {
+
+void RequireKnownKeys(const ParamMap& params, const std::set<std::string>& known) {
+  for (const auto& [key, p] : params.params)
+    if (!known.count(key))
+      throw InputError(p.file.empty() ? params.file : p.file, p.line ? p.line : params.line,
+                       "stage " + params.stage_name + ": unknown parameter '" + key + "'");
+}
+
+const FrameDetections& RequireDetections(const Frame& frame, const std::string& stage) {
+  if (frame.detections == nullptr)
+    throw InputError("--detections", stage + " needs instance masks for frame " + frame.stamp_text +
+                                         " (run with --detections DIR)");
+  return *frame.detections;
+}
+
+MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Blackboard> board) : board_(std::move(board)) {
+  // A new run builds new stages: forget the previous run's mask (stamps repeat across runs).
+  board_->frame_index = -1;
+  board_->stamp_text.clear();
+  RequireKnownKeys(p, {"dynamic_classes", "min_confidence", "dilation_kernel_px", "reject_in_mask"});
+  const Param& classes = p.Get("dynamic_classes");
+  options_.dynamic_class_ids.clear();
+  for (const std::string& name : classes.list) {
+    const int id = CocoClassId(name);
+    if (id < 0) throw InputError(classes.file, classes.line, "unknown COCO class '" + name + "'");
+    options_.dynamic_class_ids.push_back(id);
+  }
+  if (options_.dynamic_class_ids.empty())
+    throw InputError(classes.file, classes.line, "dynamic_classes must list at least one class");
+  options_.min_confidence = p.GetDouble("min_confidence");
+  options_.dilation_kernel_px = static_cast<int>(p.GetInt("dilation_kernel_px"));
+  reject_in_mask_ = p.GetBool("reject_in_mask");
+  try {
+    options_.Check();
+  } catch (const std::invalid_argument& e) {
+    throw InputError(p.file, p.line, "stage sgdo.mask: " + std::string(e.what()));
+  }
+}
+
+void MaskStage::Run(StageContext& ctx) {
+  Frame& f = ctx.frame;
+  const FrameDetections& det = RequireDetections(f, name());
+  board_->frame_index = f.index;
+  board_->stamp_text = f.stamp_text;
+  board_->mask_options = options_;
+  board_->mask = BuildDynamicMask(det, ctx.camera.width, ctx.camera.height, options_);
+  board_->static_labels = StaticClassLabels(det, ctx.camera.width, ctx.camera.height, options_);
+  const DynamicMask& m = board_->mask;
+
+  trace::TraceWriter& tr = ctx.trace;
+  for (const DetectedInstance& inst : det.instances) {
+    const std::string id = "i" + std::to_string(f.index) + "." + std::to_string(inst.id);
+    const bool dynamic = std::find(m.instance_ids.begin(), m.instance_ids.end(), inst.id) != m.instance_ids.end();
+    tr.Decision(name(), trace::EntityKind::kInstanceMask, id, !dynamic,
+                dynamic ? "prior-dynamic:" + inst.class_name
+                        : (inst.confidence < options_.min_confidence ? "low-confidence" : "static-class"));
+  }
+  tr.FrameCount(name(), "instances", static_cast<int64_t>(det.instances.size()));
+  tr.FrameCount(name(), "dynamic_instances", static_cast<int64_t>(m.instance_ids.size()));
+  tr.FrameCount(name(), "mask_px", cv::countNonZero(m.mask));
+  int64_t in_mask = 0, rejected = 0;
+  for (size_t i = 0; i < f.N(); ++i) {
+    const int inst = m.InstanceAt(f.keys[i].pt.x, f.keys[i].pt.y);
+    if (inst != 0) ++in_mask;
+    if (!reject_in_mask_) continue;
+    if (f.IsExcluded(static_cast<int>(i))) continue;
+    if (inst != 0) {
+      f.Exclude(static_cast<int>(i), name(), "mask");
+      ++rejected;
+    } else {
+      tr.Decision(name(), trace::EntityKind::kFeature, f.FeatureId(static_cast<int>(i)), true, "outside-mask");
+    }
+  }
+  tr.FrameCount(name(), "keys_in_mask", in_mask);
+  tr.FrameCount(name(), "rejected", rejected);
+}
+
+}  // namespace dynref::sgdo
