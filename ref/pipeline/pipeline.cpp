@@ -207,7 +207,8 @@ RunResult RunSequence(const RunOptions& options) {
     const Frame* prev = tracker.last_frame();
     const bool was_lost = tracker.state() == tracking::TrackState::kLost;
     const bool initialised = tracker.state() != tracking::TrackState::kNotInitialised;
-    StageContext ctx{f, prev, tracker.reference_kf(), map, camera, trace, nullptr, nullptr, initialised, was_lost};
+    StageContext ctx{f,           prev,   tracker.reference_kf(), map, camera, trace, nullptr,
+                     nullptr,     initialised, was_lost, options.out_dir};
     RunStages(stages, Hook::kAfterExtraction, ctx);
     RunStages(stages, Hook::kBeforeInitialPose, ctx);
     if (f.ExcludedCount() == static_cast<int>(f.N()) && f.N() > 0) ++n_all_excluded;

@@ -62,6 +62,7 @@ struct StageContext {
   Map* mutable_map = nullptr;       // only at kOnKeyFrameCreated / kOnMapUpdate (e.g. to flag points)
   bool initialised = false;         // map initialised (a pose exists for previous frames)
   bool lost = false;                // tracking state before this frame
+  std::string run_dir = {};         // the run's output folder (stages may write files there)
 };
 
 class Stage {

@@ -212,7 +212,7 @@ TEST_CASE("sgdo stages: dense map stage writes a PLY of the unmasked keyframe pi
   auto dense = (*registry.Find("sgdo.densemap"))(Params("sgdo.densemap",
       {{"keyframe_leaf_m", P("0.05")}, {"global_leaf_m", P("0.05")}, {"filter_every_keyframes", P("10")},
        {"sor_k", P("8")}, {"sor_std_mult", P("1.0")}, {"min_depth_m", P("0.1")}, {"max_depth_m", P("6")},
-       {"pixel_stride", P("1")}, {"colour_by_class", P("true")}, {"output", P(dir + "/dense_map.ply")},
+       {"pixel_stride", P("1")}, {"colour_by_class", P("true")}, {"output", P("dense_map.ply")},
        {"ply_format", P("binary")}}));
   Map map;
   trace::TraceWriter tr("", trace::Level::kOff, trace::RunHeader{});
@@ -221,6 +221,7 @@ TEST_CASE("sgdo stages: dense map stage writes a PLY of the unmasked keyframe pi
   KeyFrame kf;
   kf.id = 0;
   StageContext ctx{f, nullptr, nullptr, map, TestCamera(), tr, &kf};
+  ctx.run_dir = dir;  // a relative `output` is written into the run folder
   mask->Run(ctx);
   CHECK(f.ExcludedCount() > 0);  // (S): keypoints in M rejected
   dense->Run(ctx);

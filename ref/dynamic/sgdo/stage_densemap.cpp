@@ -4,29 +4,12 @@
 // is written as PLY when the stage is destroyed at the end of the run (or by WriteMap()).
 #include <cstdio>
 #include <iostream>
-#include <type_traits>
 #include <utility>
 
 #include "dense/ply_writer.h"
 #include "dynamic/sgdo/stages.h"
 
 namespace dynref::sgdo {
-namespace {
-
-// The run directory, when the backbone's StageContext provides one (`std::string run_dir`);
-// detected at compile time so this file builds before and after that field exists.
-template <typename C, typename = void>
-struct HasRunDir : std::false_type {};
-template <typename C>
-struct HasRunDir<C, std::void_t<decltype(std::declval<const C&>().run_dir)>> : std::true_type {};
-
-template <typename C>
-std::string RunDirOf(const C& ctx) {
-  if constexpr (HasRunDir<C>::value) return ctx.run_dir;
-  else return {};
-}
-
-}  // namespace
 
 DenseMapStage::DenseMapStage(const ParamMap& p, std::shared_ptr<Blackboard> board) : board_(std::move(board)) {
   RequireKnownKeys(p, {"keyframe_leaf_m", "global_leaf_m", "filter_every_keyframes", "sor_k",
@@ -67,12 +50,12 @@ void DenseMapStage::Run(StageContext& ctx) {
   if (ctx.new_keyframe == nullptr) return;
   if (!board_->Has(f)) throw std::logic_error("sgdo.densemap needs sgdo.mask earlier in the stage list");
   if (!resolved_) {  // a relative `output` lives in the run directory
-    const std::string run_dir = RunDirOf(ctx);
+    const std::string& run_dir = ctx.run_dir;
     if (output_path_[0] != '/') {
       if (!run_dir.empty()) {
         output_path_ = run_dir + "/" + output_path_;
       } else {
-        // No run directory known (StageContext without run_dir): never write into the cwd.
+        // No run directory (a stage driven outside dynref run): never write into the cwd.
         std::cerr << "sgdo.densemap: no run directory in the stage context; " << output_path_
                   << " is not written (give an absolute output path)\n";
         output_path_.clear();
