@@ -1,11 +1,21 @@
 #include "core/atomic_file.h"
+#include "core/error.h"
 
 #include <unistd.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 #include <stdexcept>
 
 namespace dynref {
+
+void EnsureDirectory(const std::string& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (!std::filesystem::is_directory(dir))
+    throw InputError(dir, "cannot create output directory" + (ec ? " (" + ec.message() + ")" : std::string()));
+}
 
 std::string TempPathFor(const std::string& path) {
   return path + ".tmp." + std::to_string(static_cast<long>(::getpid()));

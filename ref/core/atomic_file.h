@@ -31,6 +31,10 @@ void AtomicWriteFile(const std::string& path, const std::string& content);
 // Renames an already written temp file onto path (same directory), throwing on failure.
 void AtomicRename(const std::string& temp_path, const std::string& final_path);
 
+// Creates dir and its missing parents (mkdir -p); InputError naming dir when that fails or
+// a non-directory is in the way.
+void EnsureDirectory(const std::string& dir);
+
 // Temp name used for path: "<path>.tmp.<pid>".
 std::string TempPathFor(const std::string& path);
 

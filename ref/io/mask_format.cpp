@@ -16,13 +16,6 @@ namespace {
 
 std::string StemFor(const std::string& stamp) { return stamp; }
 
-void EnsureDir(const std::string& dir) {
-  ::mkdir(dir.c_str(), 0755);
-  struct stat st {};
-  if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode))
-    throw InputError(dir, "cannot create output directory");
-}
-
 std::vector<std::string> ReadLines(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot open file");
@@ -50,7 +43,7 @@ cv::Mat FrameDetections::MaskOf(int instance_id) const {
 DetectionsWriter::DetectionsWriter(const std::string& dir, const std::string& source,
                                    const std::string& model_sha256)
     : dir_(dir) {
-  EnsureDir(dir_);
+  EnsureDirectory(dir_);
   std::ostringstream f;
   f << "dynref-detections " << kMaskFormatVersion << "\nsource " << source << "\nmodel_sha256 "
     << (model_sha256.empty() ? "-" : model_sha256) << "\n";

@@ -24,12 +24,6 @@
 namespace dynref::synth {
 namespace {
 
-void MakeDir(const std::string& dir) {
-  ::mkdir(dir.c_str(), 0755);
-  struct stat st {};
-  if (::stat(dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode)) throw InputError(dir, "cannot create output directory");
-}
-
 void WritePng(const std::string& path, const cv::Mat& image) {
   const std::string tmp = TempPathFor(path) + ".png";
   if (!cv::imwrite(tmp, image)) throw std::runtime_error("cannot write " + tmp);
@@ -95,18 +89,18 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
   K.fx = float(camera.fx), K.fy = float(camera.fy), K.cx = float(camera.cx), K.cy = float(camera.cy);
   const SensorModel sensor;
 
-  MakeDir(opt.out);
-  MakeDir(opt.out + "/rgb");
-  MakeDir(opt.out + "/depth");
-  MakeDir(opt.out + "/gt");
-  MakeDir(opt.out + "/gt/motion");
+  EnsureDirectory(opt.out);
+  EnsureDirectory(opt.out + "/rgb");
+  EnsureDirectory(opt.out + "/depth");
+  EnsureDirectory(opt.out + "/gt");
+  EnsureDirectory(opt.out + "/gt/motion");
   DetectionsWriter gt_writer(opt.out + "/gt", "gt", "");
   std::vector<std::string> modes;
   if (opt.detections == "all") modes = {"ideal", "yolo-like", "sparseinst-like"};
   else if (opt.detections != "none") modes = {opt.detections};
   std::vector<std::unique_ptr<DetectionsWriter>> det_writers;
   std::vector<Degrader> degraders;
-  if (!modes.empty()) MakeDir(opt.out + "/detections");
+  if (!modes.empty()) EnsureDirectory(opt.out + "/detections");
   for (const auto& m : modes) {
     det_writers.push_back(std::make_unique<DetectionsWriter>(opt.out + "/detections/" + m, "synthetic:" + m, ""));
     degraders.emplace_back(ProfileFor(m), world.scene().labels, opt.seed, opt.blur);
