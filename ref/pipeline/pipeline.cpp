@@ -33,6 +33,11 @@ namespace dynref {
 namespace {
 
 namespace fs = std::filesystem;
+
+std::string AbsolutePath(const std::string& path) {
+  return path.empty() ? path : fs::absolute(path).lexically_normal().string();
+}
+
 // Module timings use the thread's CPU clock (the run is single-threaded), so they measure the
 // work done and not the load of the machine. They go to run.json only, never into results.
 struct Clock {
@@ -129,7 +134,11 @@ RunResult RunSequence(const RunOptions& options) {
   header.dynref_commit = DYNREF_GIT_COMMIT;
   header.method = cfg.method;
   header.config_json = cfg.ToJson();
-  header.sequence_path = options.sequence;
+  // Absolute paths: overlays and reports open the run from any working directory.
+  const std::string sequence_abs = AbsolutePath(options.sequence);
+  const std::string detections_abs = AbsolutePath(options.detections_dir);
+  header.sequence_path = sequence_abs;
+  header.detections_dir = detections_abs;
   for (const char* f : {"rgb.txt", "depth.txt", "camera.yaml"}) {
     const std::string p = options.sequence + "/" + f;
     if (fs::exists(p)) header.input_hashes.emplace_back(f, Sha256File(p));
@@ -318,9 +327,9 @@ RunResult RunSequence(const RunOptions& options) {
   }
 
   nlohmann::json j;
-  j["sequence"] = options.sequence;
+  j["sequence"] = sequence_abs;
   j["method"] = cfg.method;
-  j["detections"] = options.detections_dir;
+  j["detections"] = detections_abs;
   j["detector"] = detector_name;
   j["config"] = nlohmann::json::parse(cfg.ToJson());
   j["camera"] = {{"name", camera.name}, {"fx", camera.fx}, {"fy", camera.fy}, {"cx", camera.cx},
