@@ -14,6 +14,7 @@ PACKAGES=(
   libcli11-dev               # subcommands, --help, unknown flags are errors
   libnanoflann-dev           # k-d tree for SOR / radius queries in dense maps
   darknet                    # ships real test photos with people (person.jpg, kite.jpg)
+  python3                    # tests: second, independent trace writer (ref/trace/dtr_from_jsonl.py)
 )
 missing=()
 for p in "${PACKAGES[@]}"; do
