@@ -1,10 +1,15 @@
 #include "test_support.h"
 
+#include <catch2/catch.hpp>
+#include <sys/stat.h>
+
 #include <sys/wait.h>
 
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 namespace dynref::test {
@@ -27,6 +32,23 @@ CommandResult RunDynref(const std::string& args) {
   const int status = ::pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+bool FileExists(const std::string& path) {
+  struct stat st {};
+  return ::stat(path.c_str(), &st) == 0;
+}
+
+std::string ReadFileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void ExpectBadInput(const std::string& args, const std::string& fragment) {
+  const CommandResult r = RunDynref(args);
+  INFO(args << "\n" << r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find(fragment) != std::string::npos);
 }
 
 }  // namespace dynref::test

@@ -16,4 +16,12 @@ struct CommandResult {
 // Runs "build/dynref <args>" through the shell, capturing output.
 CommandResult RunDynref(const std::string& args);
 
+// Single-quoted for the shell (paths in RunDynref arguments).
+inline std::string Quote(const std::string& s) { return "'" + s + "'"; }
+bool FileExists(const std::string& path);
+// Whole file as bytes ("" when it cannot be read).
+std::string ReadFileBytes(const std::string& path);
+// Runs dynref and expects bad-input exit code 2 with `fragment` (usually "file:line:") in the output.
+void ExpectBadInput(const std::string& args, const std::string& fragment);
+
 }  // namespace dynref::test

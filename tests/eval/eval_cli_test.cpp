@@ -4,11 +4,11 @@
 
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
-#include <sys/stat.h>
 
 #include "test_support.h"
 
+using dynref::test::ExpectBadInput;
+using dynref::test::Quote;
 using dynref::test::RunDynref;
 
 namespace {
@@ -16,25 +16,6 @@ namespace {
 std::string Write(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
   return path;
-}
-std::string Read(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-bool Exists(const std::string& p) {
-  struct stat st;
-  return ::stat(p.c_str(), &st) == 0;
-}
-std::string Quote(const std::string& s) { return "'" + s + "'"; }
-
-// Expects exit 2 and `fragment` in the output (fragment usually "file:line:").
-void ExpectBad(const std::string& args, const std::string& fragment) {
-  const auto r = RunDynref(args);
-  INFO(args << "\n" << r.output);
-  CHECK(r.exit_code == 2);
-  CHECK(r.output.find(fragment) != std::string::npos);
 }
 
 const std::string kTraj =
@@ -47,20 +28,20 @@ TEST_CASE("eval cli: bad trajectories exit 2 naming file and line") {
   const std::string d = dynref::test::ScratchDir("eval_cli_bad");
   const std::string gt = Write(d + "/gt.txt", kTraj);
   auto eval = [&](const std::string& est) { return "eval --gt " + Quote(gt) + " --est " + Quote(est); };
-  ExpectBad(eval(d + "/missing.txt"), d + "/missing.txt: file not found");
-  ExpectBad("eval --gt " + Quote(d + "/nogt.txt") + " --est " + Quote(gt), d + "/nogt.txt: file not found");
-  ExpectBad(eval(Write(d + "/malformed.txt", kTraj + "1.2 0 0 0 0 0 1\n")), d + "/malformed.txt:6: malformed line");
-  ExpectBad(eval(Write(d + "/nonnum.txt", "# x\n" + kTraj + "1.2 0 0 0 0 0 0 one\n")),
+  ExpectBadInput(eval(d + "/missing.txt"), d + "/missing.txt: file not found");
+  ExpectBadInput("eval --gt " + Quote(d + "/nogt.txt") + " --est " + Quote(gt), d + "/nogt.txt: file not found");
+  ExpectBadInput(eval(Write(d + "/malformed.txt", kTraj + "1.2 0 0 0 0 0 1\n")), d + "/malformed.txt:6: malformed line");
+  ExpectBadInput(eval(Write(d + "/nonnum.txt", "# x\n" + kTraj + "1.2 0 0 0 0 0 0 one\n")),
             d + "/nonnum.txt:7: field qw 'one' is not a number");
-  ExpectBad(eval(Write(d + "/nan.txt", "1.0 0 0 0 0 0 0 1\n1.1 0 NaN 0 0 0 0 1\n")),
+  ExpectBadInput(eval(Write(d + "/nan.txt", "1.0 0 0 0 0 0 0 1\n1.1 0 NaN 0 0 0 0 1\n")),
             d + "/nan.txt:2: pose field ty is NaN");
-  ExpectBad(eval(Write(d + "/inf.txt", "1.0 0 0 inf 0 0 0 1\n")), d + "/inf.txt:1: pose field tz is inf");
-  ExpectBad(eval(Write(d + "/quat.txt", "1.0 0 0 0 0.1 0 0 1\n")), d + "/quat.txt:1: quaternion not normalised");
-  ExpectBad(eval(Write(d + "/order.txt", "2.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n")),
+  ExpectBadInput(eval(Write(d + "/inf.txt", "1.0 0 0 inf 0 0 0 1\n")), d + "/inf.txt:1: pose field tz is inf");
+  ExpectBadInput(eval(Write(d + "/quat.txt", "1.0 0 0 0 0.1 0 0 1\n")), d + "/quat.txt:1: quaternion not normalised");
+  ExpectBadInput(eval(Write(d + "/order.txt", "2.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n")),
             d + "/order.txt:2: timestamps not increasing");
-  ExpectBad("eval --gt " + Quote(Write(d + "/empty.txt", "# nothing\n")) + " --est " + Quote(gt),
+  ExpectBadInput("eval --gt " + Quote(Write(d + "/empty.txt", "# nothing\n")) + " --est " + Quote(gt),
             d + "/empty.txt: no poses");
-  ExpectBad(eval(Write(d + "/far.txt", "500 0 0 0 0 0 0 1\n501 0 0 0 0 0 0 1\n")),
+  ExpectBadInput(eval(Write(d + "/far.txt", "500 0 0 0 0 0 0 1\n501 0 0 0 0 0 0 1\n")),
             d + "/far.txt: zero associated pairs");
   // A quaternion within 1e-3 of unit length is normalised and accepted.
   const auto ok = RunDynref(eval(Write(d + "/nearunit.txt", "1.0 0 0 0 0 0 0 1.0005\n1.03125 0.1 0 0 0 0 0 1\n"
@@ -70,9 +51,9 @@ TEST_CASE("eval cli: bad trajectories exit 2 naming file and line") {
   INFO(ok.output);
   CHECK(ok.exit_code == 0);
   // Usage errors are exit 2 too.
-  ExpectBad(eval(gt) + " --align affine", "--align");
-  ExpectBad(eval(gt) + " --no-such-flag", "no-such-flag");
-  ExpectBad(eval(gt) + " --max-diff -1", "--max-diff");
+  ExpectBadInput(eval(gt) + " --align affine", "--align");
+  ExpectBadInput(eval(gt) + " --no-such-flag", "no-such-flag");
+  ExpectBadInput(eval(gt) + " --max-diff -1", "--max-diff");
 }
 
 TEST_CASE("eval cli: --json is written atomically and runs are byte-identical") {
@@ -83,19 +64,19 @@ TEST_CASE("eval cli: --json is written atomically and runs are byte-identical") 
   const std::string args = "eval --gt " + Quote(gt) + " --est " + Quote(est) + " --json " + Quote(json);
   const auto a = RunDynref(args);
   REQUIRE(a.exit_code == 0);
-  const std::string first = Read(json);
+  const std::string first = dynref::test::ReadFileBytes(json);
   CHECK(first.find("\"pairs\": 2223") != std::string::npos);
   CHECK(first.find("\"random_subsampling\": false") != std::string::npos);
   const auto b = RunDynref(args);
   CHECK(b.output == a.output);
-  CHECK(Read(json) == first);
+  CHECK(dynref::test::ReadFileBytes(json) == first);
   // A failing run leaves the previous result untouched and no temp file behind.
   const std::string bad = Write(d + "/bad.txt", "1 0 0 0 0 0 0 1\n0.5 0 0 0 0 0 0 1\n");
-  ExpectBad("eval --gt " + Quote(gt) + " --est " + Quote(bad) + " --json " + Quote(json), "bad.txt:2:");
-  CHECK(Read(json) == first);
+  ExpectBadInput("eval --gt " + Quote(gt) + " --est " + Quote(bad) + " --json " + Quote(json), "bad.txt:2:");
+  CHECK(dynref::test::ReadFileBytes(json) == first);
   const auto c = RunDynref("eval --gt " + Quote(gt) + " --est " + Quote(bad) + " --json " + Quote(d + "/new.json"));
   CHECK(c.exit_code == 2);
-  CHECK(!Exists(d + "/new.json"));
+  CHECK(!dynref::test::FileExists(d + "/new.json"));
   CHECK(std::system(("ls " + Quote(d) + " | grep -q tmp").c_str()) != 0);
 }
 

@@ -14,13 +14,6 @@
 
 namespace fs = std::filesystem;
 
-namespace {
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
-}  // namespace
-
 TEST_CASE("orb golden: 30-frame static_xyz run is unchanged") {
   const std::string dir = dynref::test::ScratchDir("orb_golden");
   dynref::synth::SynthOptions so;
@@ -54,5 +47,5 @@ TEST_CASE("orb golden: 30-frame static_xyz run is unchanged") {
       dynref::test::RunDynref("diff " + golden + "/trace.dtr " + ro.out_dir + "/trace.dtr");
   INFO(d.output);
   CHECK(d.exit_code == 0);
-  CHECK(ReadAll(golden + "/trajectory.txt") == ReadAll(ro.out_dir + "/trajectory.txt"));
+  CHECK(dynref::test::ReadFileBytes(golden + "/trajectory.txt") == dynref::test::ReadFileBytes(ro.out_dir + "/trajectory.txt"));
 }

@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "dynamic/sgdo/register.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/stage_registry.h"
 #include "synth/synth.h"
@@ -26,8 +25,6 @@ TEST_CASE("sgdo golden: 30-frame walking_xyz trace is unchanged") {
   so.out = dir + "/seq";
   dynref::synth::GenerateSequence(so);
 
-  // Until the backbone's BuiltinStageRegistry registers the sgdo stages itself.
-  if (!dynref::BuiltinStageRegistry().Has("sgdo.mask")) dynref::RegisterSgdoStages(dynref::BuiltinStageRegistry());
   dynref::RunOptions ro;
   ro.sequence = so.out;
   ro.out_dir = dir + "/run";

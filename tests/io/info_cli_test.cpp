@@ -10,6 +10,8 @@
 #include "io/camera.h"
 #include "test_support.h"
 
+using dynref::test::ExpectBadInput;
+using dynref::test::Quote;
 using dynref::test::RunDynref;
 
 namespace {
@@ -17,14 +19,6 @@ namespace {
 std::string Write(const std::string& path, const std::string& text) {
   std::ofstream(path) << text;
   return path;
-}
-std::string Quote(const std::string& s) { return "'" + s + "'"; }
-
-void ExpectBad(const std::string& args, const std::string& fragment) {
-  const auto r = RunDynref(args);
-  INFO(args << "\n" << r.output);
-  CHECK(r.exit_code == 2);
-  CHECK(r.output.find(fragment) != std::string::npos);
 }
 
 // A tiny sequence folder: n frames of 8x6 images, camera.yaml with the same size.
@@ -59,7 +53,7 @@ TEST_CASE("info cli: real sequence and bad sequence folders exit 2 naming file a
   CHECK(real.output.find("fx 517.3  fy 516.5  cx 318.6  cy 255.3") != std::string::npos);
 
   const std::string base = dynref::test::ScratchDir("info_cli_bad");
-  ExpectBad("info " + Quote(base + "/nope"), base + "/nope: sequence folder not found");
+  ExpectBadInput("info " + Quote(base + "/nope"), base + "/nope: sequence folder not found");
 
   auto fresh = [&](const std::string& name, int depth_type = CV_16UC1, cv::Size size = {8, 6}) {
     const std::string dir = base + "/" + name;
@@ -72,47 +66,47 @@ TEST_CASE("info cli: real sequence and bad sequence folders exit 2 naming file a
 
   const std::string no_rgb = fresh("no_rgb_txt");
   ::remove((no_rgb + "/rgb.txt").c_str());
-  ExpectBad("info " + Quote(no_rgb), no_rgb + "/rgb.txt: file not found");
+  ExpectBadInput("info " + Quote(no_rgb), no_rgb + "/rgb.txt: file not found");
 
   const std::string missing_img = fresh("missing_image");
   ::remove((missing_img + "/depth/11.000000.png").c_str());
-  ExpectBad("info " + Quote(missing_img), missing_img + "/depth.txt:3: depth image listed but missing");
+  ExpectBadInput("info " + Quote(missing_img), missing_img + "/depth.txt:3: depth image listed but missing");
 
   const std::string eight = fresh("depth8", CV_8UC1);
-  ExpectBad("info " + Quote(eight), eight + "/depth.txt:2: depth image");
-  ExpectBad("info " + Quote(eight), "not a 1-channel 16-bit PNG (8-bit");
+  ExpectBadInput("info " + Quote(eight), eight + "/depth.txt:2: depth image");
+  ExpectBadInput("info " + Quote(eight), "not a 1-channel 16-bit PNG (8-bit");
 
   const std::string mismatch = fresh("size_mismatch", CV_16UC1, {4, 3});
-  ExpectBad("info " + Quote(mismatch), mismatch + "/depth.txt:2: image size mismatch");
+  ExpectBadInput("info " + Quote(mismatch), mismatch + "/depth.txt:2: image size mismatch");
 
   const std::string malformed = fresh("malformed");
   Write(malformed + "/rgb.txt", "10.000000 rgb/10.000000.png\n11.000000\n");
-  ExpectBad("info " + Quote(malformed), malformed + "/rgb.txt:2: malformed line");
+  ExpectBadInput("info " + Quote(malformed), malformed + "/rgb.txt:2: malformed line");
 
   const std::string nonnum = fresh("nonnum");
   Write(nonnum + "/depth.txt", "10.000000 depth/10.000000.png\nten depth/11.000000.png\n");
-  ExpectBad("info " + Quote(nonnum), nonnum + "/depth.txt:2: timestamp 'ten' is not a number");
+  ExpectBadInput("info " + Quote(nonnum), nonnum + "/depth.txt:2: timestamp 'ten' is not a number");
 
   const std::string order = fresh("order");
   Write(order + "/rgb.txt", "11.000000 rgb/11.000000.png\n10.000000 rgb/10.000000.png\n");
-  ExpectBad("info " + Quote(order), order + "/rgb.txt:2: timestamps not increasing");
+  ExpectBadInput("info " + Quote(order), order + "/rgb.txt:2: timestamps not increasing");
 
   const std::string zero = fresh("zero_pairs");
   Write(zero + "/depth.txt", "50.000000 depth/10.000000.png\n");
-  ExpectBad("info " + Quote(zero), zero + "/rgb.txt: zero associated RGB/depth pairs");
+  ExpectBadInput("info " + Quote(zero), zero + "/rgb.txt: zero associated RGB/depth pairs");
 
   const std::string empty_gt = fresh("empty_gt");
   Write(empty_gt + "/groundtruth.txt", "# ground truth trajectory\n");
-  ExpectBad("info " + Quote(empty_gt), empty_gt + "/groundtruth.txt: no poses");
+  ExpectBadInput("info " + Quote(empty_gt), empty_gt + "/groundtruth.txt: no poses");
 
   const std::string nan_gt = fresh("nan_gt");
   Write(nan_gt + "/groundtruth.txt", "10.0 0 0 0 0 0 0 1\n10.5 nan 0 0 0 0 0 1\n");
-  ExpectBad("info " + Quote(nan_gt), nan_gt + "/groundtruth.txt:2: pose field tx is nan");
+  ExpectBadInput("info " + Quote(nan_gt), nan_gt + "/groundtruth.txt:2: pose field tx is nan");
 
   // No camera.yaml and an uninformative folder name: asks for --camera.
   const std::string nocam = fresh("nocam");
   ::remove((nocam + "/camera.yaml").c_str());
-  ExpectBad("info " + Quote(nocam), "pass --camera");
+  ExpectBadInput("info " + Quote(nocam), "pass --camera");
   const auto with_cam = RunDynref("info " + Quote(nocam) + " --camera synthetic");
   CHECK(with_cam.exit_code == 2);  // synthetic preset is 640x480, images are 8x6
   CHECK(with_cam.output.find(nocam + "/rgb.txt:2:") != std::string::npos);

@@ -22,10 +22,6 @@ nlohmann::json ReadJson(const std::string& path) {
   return nlohmann::json::parse(in);
 }
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 RunOptions Options(const std::string& out, const std::string& trace = "off") {
   RunOptions o;
@@ -122,8 +118,8 @@ TEST_CASE("run: two runs give byte-identical trajectory and trace dump") {
   oa.last_frame = ob.last_frame = 4;
   REQUIRE(RunSequence(oa).exit_code == 0);
   REQUIRE(RunSequence(ob).exit_code == 0);
-  CHECK(ReadAll(a + "/trajectory.txt") == ReadAll(b + "/trajectory.txt"));
-  CHECK(ReadAll(a + "/keyframes.txt") == ReadAll(b + "/keyframes.txt"));
+  CHECK(test::ReadFileBytes(a + "/trajectory.txt") == test::ReadFileBytes(b + "/trajectory.txt"));
+  CHECK(test::ReadFileBytes(a + "/keyframes.txt") == test::ReadFileBytes(b + "/keyframes.txt"));
   const auto da = test::RunDynref("trace dump " + a + "/trace.dtr");
   const auto db = test::RunDynref("trace dump " + b + "/trace.dtr");
   REQUIRE(da.exit_code == 0);
@@ -151,7 +147,7 @@ TEST_CASE("run: everything masked out is never initialised, every frame listed a
   CHECK(r.exit_code == 2);
   CHECK(r.tracked == 0);
   CHECK(r.end_state.rfind("never-initialised", 0) == 0);
-  const std::string lost = ReadAll(out + "/lost.txt");
+  const std::string lost = test::ReadFileBytes(out + "/lost.txt");
   CHECK(std::count(lost.begin(), lost.end(), '\n') == 5);  // header + 4 frames
   CHECK(ReadJson(out + "/run.json")["frames_all_features_excluded"] == 4);
 }
@@ -164,5 +160,5 @@ TEST_CASE("run: per-feature weights reach pose optimisation and local BA") {
   oa.last_frame = ob.last_frame = 4;
   REQUIRE(RunSequence(oa).exit_code == 0);
   REQUIRE(RunSequence(ob).exit_code == 0);
-  CHECK(ReadAll(a + "/trajectory.txt") != ReadAll(b + "/trajectory.txt"));
+  CHECK(test::ReadFileBytes(a + "/trajectory.txt") != test::ReadFileBytes(b + "/trajectory.txt"));
 }
