@@ -14,6 +14,7 @@
 #include "cli/command.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/frame_range.h"
 #include "core/format.h"
 #include "core/version.h"
 #include "detect/detection_source.h"
@@ -62,30 +63,6 @@ void PrintInstances(const FrameDetections& f) {
     std::cout << "  " << d.id << " " << d.class_name << " conf " << FormatFixed(d.confidence, 3) << " box ["
               << FormatFixed(d.x_min, 1) << ", " << FormatFixed(d.y_min, 1) << ", " << FormatFixed(d.x_max, 1)
               << ", " << FormatFixed(d.y_max, 1) << "]" << (d.has_mask ? " mask" : "") << "\n";
-}
-
-// "A-B" (0-based, inclusive) into [first, last]; InputError for bad text or range.
-void ParseFrames(const std::string& text, size_t count, size_t& first, size_t& last) {
-  first = 0;
-  last = count - 1;
-  if (text.empty()) return;
-  const size_t dash = text.find('-');
-  try {
-    if (dash == std::string::npos) throw std::invalid_argument("no dash");
-    size_t used_a = 0, used_b = 0;
-    const long a = std::stol(text.substr(0, dash), &used_a);
-    const long b = std::stol(text.substr(dash + 1), &used_b);
-    if (used_a != dash || used_b != text.size() - dash - 1 || a < 0 || b < a) throw std::invalid_argument("range");
-    if (size_t(b) >= count)
-      throw InputError("--frames", "frame " + std::to_string(b) + " beyond the sequence's " +
-                                       std::to_string(count) + " frames (0-based)");
-    first = size_t(a);
-    last = size_t(b);
-  } catch (const std::invalid_argument&) {
-    throw InputError("--frames", "expected A-B with 0 <= A <= B (0-based frame indices), got '" + text + "'");
-  } catch (const std::out_of_range&) {
-    throw InputError("--frames", "number out of range in '" + text + "'");
-  }
 }
 
 std::string InfoText(const DetectArgs& a, const DetectionSource& src, size_t first, size_t last) {
@@ -139,8 +116,9 @@ int RunDetect(DetectArgs a) {
   SequenceOptions so;
   so.camera = a.camera;
   const Sequence seq = OpenSequence(a.sequence, so);
-  size_t first = 0, last = 0;
-  ParseFrames(a.frames, seq.frames.size(), first, last);
+  const FrameRange range = a.frames.empty() ? FrameRange{} : ParseFrameRange(a.frames);
+  const size_t first = static_cast<size_t>(range.first);
+  const size_t last = static_cast<size_t>(range.LastIn(static_cast<int64_t>(seq.frames.size())));
   auto source = MakeDetectionSource(SpecOf(a), a.options);  // after the cheap argument checks
   if (!a.overlays.empty()) {
     ::mkdir(a.overlays.c_str(), 0755);
@@ -195,7 +173,7 @@ void RegisterDetectCommand(CLI::App& root, CommandList& out) {
   app->add_option("--image", args->image, "Single image instead of a sequence");
   app->add_option("--out", args->out, "Output dynref-detections folder");
   app->add_option("--camera", args->camera, "Camera preset or ORB-SLAM2 YAML (default: auto)");
-  app->add_option("--frames", args->frames, "A-B: 0-based inclusive frame range (default: all)");
+  app->add_option("--frames", args->frames, "Frames A, A-B or A- (0-based, inclusive; default: all)");
   app->add_option("--input", args->input, "Folder for --source files / labels");
   app->add_option("--mode", args->mode, "Detections mode of a synthetic sequence for --source gt");
   app->add_option("--model", args->options.model_path, "Network ONNX (default: bundled models/nanodet.onnx)");

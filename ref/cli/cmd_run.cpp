@@ -7,6 +7,7 @@
 
 #include "cli/command.h"
 #include "core/error.h"
+#include "core/frame_range.h"
 #include "pipeline/pipeline.h"
 
 namespace dynref::cli {
@@ -23,11 +24,15 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
   app->add_option("--detections", opts->detections_dir, "dynref-detections folder for the method stages");
   app->add_option("--detector", opts->detector, "detection source spec (see dynref detect), e.g. gt:yolo-like");
   app->add_option("--camera", opts->camera, "camera preset or ORB-SLAM2 YAML (default: auto)");
-  app->add_option("--frames", *frames, "inclusive frame index range A-B (B empty = to the end)");
+  app->add_option("--frames", *frames, "frames A, A-B or A- (0-based, inclusive; A- = to the end)");
   app->add_flag("--overlays", opts->overlays, "render RUN/overlays/overlay_<frame>.png after the run");
   app->add_flag("!--no-progress", opts->progress, "no progress line on stderr");
   out.push_back({app, [opts, frames] {
-                   if (!frames->empty()) ParseFrameRange(*frames, &opts->first_frame, &opts->last_frame);
+                   if (!frames->empty()) {
+                     const FrameRange range = ParseFrameRange(*frames);
+                     opts->first_frame = range.first;
+                     opts->last_frame = range.last;
+                   }
                    const RunResult r = RunSequence(*opts);
                    std::cout << "dynref run: " << r.frames << " frames, " << r.tracked << " tracked, " << r.lost
                              << " lost, " << r.keyframes << " keyframes; end state: " << r.end_state << "\n";

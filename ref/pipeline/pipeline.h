@@ -23,7 +23,7 @@ struct RunOptions {
   std::string detections_dir;    // dynref-detections folder (optional)
   std::string detector;          // detection source spec (ref/detect), optional
   std::string camera;            // preset / YAML; empty = auto
-  int first_frame = 0, last_frame = -1;  // inclusive range of sequence indices; -1 = to the end
+  int64_t first_frame = 0, last_frame = -1;  // inclusive range of sequence indices; -1 = to the end
   bool progress = true;          // progress line when stderr is a terminal
   bool overlays = false;         // render RUN/overlays/ after the run (ref/render; needs a trace)
   void Check() const;            // InputError naming the bad field
@@ -38,8 +38,5 @@ struct RunResult {
 // Runs the whole sequence; writes every output atomically. Bad input found before the first
 // frame throws InputError; bad input mid-run ends the run cleanly (result.end_state says why).
 RunResult RunSequence(const RunOptions& options);
-
-// Parses "A-B" (inclusive, B may be empty for "to the end") into first/last.
-void ParseFrameRange(const std::string& text, int* first, int* last);
 
 }  // namespace dynref

@@ -78,7 +78,8 @@ TEST_CASE("cli: detect exits 2 with a clear message for bad models, corrupt mask
   CHECK(corrupt.exit_code == 2);
   CHECK(corrupt.output.find("corrupt") != std::string::npos);
   CHECK(RunDynref("detect --source nanodet " + kSeq + " --frames 5-99 --out " + dir + "/x").exit_code == 2);
-  CHECK(RunDynref("detect --source nanodet " + kSeq + " --frames 3 --out " + dir + "/x").exit_code == 2);
+  CHECK(RunDynref("detect --source nanodet " + kSeq + " --frames 3-1 --out " + dir + "/x").exit_code == 2);
+  CHECK(RunDynref("detect --source nanodet " + kSeq + " --frames 9- --out " + dir + "/x").exit_code == 2);
   CHECK(RunDynref("detect --source nanodet " + kSeq).exit_code == 2);  // no --out
   CHECK(RunDynref("detect --help").exit_code == 0);
 }

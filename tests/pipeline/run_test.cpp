@@ -108,7 +108,10 @@ TEST_CASE("run: real fr1_desk frames, every frame-to-frame motion close to groun
   CHECK(j["method"] == "orb");
   CHECK(j["end_state"] == "complete");
   CHECK(j["tracking_rate"] == 1.0);
-  CHECK(j["timing"].contains("extraction"));
+  for (const char* module : {"load", "extraction", "tracking", "local_mapping", "ba", "slam", "total"}) {
+    CHECK(j["timing"].contains(module));
+    CHECK(j["timing"][module]["median_ms_per_frame"].get<double>() >= 0.0);
+  }
   CHECK(j["config"]["backbone"]["n_features"]["value"] == "1000");
 }
 
