@@ -2,7 +2,7 @@
 # Backbone runtime benchmark (issue 5 "Speed"): per-module milliseconds per frame of
 # `dynref run --method orb --trace off` on one core at 640x480 with 1000 ORB features, on
 # synthetic sequences generated here (nothing downloaded). Prints a Markdown table (median and
-# mean per module, keyframes, local BA calls, ATE) and writes it to $OUT/backbone_runtime.md.
+# mean per module, keyframes, local BA calls, ATE, RPE over 1 frame) and writes it to $OUT/backbone_runtime.md.
 #
 #   bash scripts/bench-backbone.sh [FRAMES] [PRESET ...]
 #   defaults: 300 frames, presets static_xyz walking_xyz; output under out/bench
@@ -38,7 +38,7 @@ for seq in "${SEQS[@]}"; do
   run="$OUT/run/$(basename "$seq")"
   "$DYNREF" run --method orb --sequence "$seq" --out "$run" --trace off --no-progress
   if [ -f "$seq/groundtruth.txt" ]; then
-    "$DYNREF" eval --gt "$seq/groundtruth.txt" --est "$run/trajectory.txt" --json "$run/eval.json" > /dev/null
+    "$DYNREF" eval --gt "$seq/groundtruth.txt" --est "$run/trajectory.txt" --delta 1 --delta-unit f --json "$run/eval.json" > /dev/null
   fi
   RUNS+=("$run")
 done
@@ -54,18 +54,20 @@ lines = ["# dynref backbone runtime (`--method orb --trace off`, one core, 640x4
          "ORB-SLAM2's TrackRGBD span with local mapping run sequentially); `total` = load + slam.",
          "Local mapping and BA run only on keyframes, so their medians are 0 when fewer than half",
          "of the frames are keyframes; the mean is the amortised cost.", "",
-         "| sequence | frames | keyframes | local BA calls | " + " | ".join(modules) + " | ATE rmse [m] |",
-         "|---|---:|---:|---:|" + "---:|" * len(modules) + "---:|"]
+         "| sequence | frames | keyframes | local BA calls | " + " | ".join(modules) + " | ATE rmse [m] | RPE 1 frame [m / deg] |",
+         "|---|---:|---:|---:|" + "---:|" * len(modules) + "---:|---:|"]
 for run in runs:
     j = json.load(open(os.path.join(run, "run.json")))
     t = j["timing"]
     cells = ["%.1f / %.1f" % (t[m]["median_ms_per_frame"], t[m]["mean_ms_per_frame"]) for m in modules]
-    ate = "-"
+    ate = rpe = "-"
     ev = os.path.join(run, "eval.json")
     if os.path.exists(ev):
-        ate = "%.4f" % json.load(open(ev))["ate"]["stats"]["rmse"]
-    lines.append("| %s | %d | %d | %d | %s | %s |" % (os.path.basename(run), j["frames_processed"],
-                 j["keyframes"], j["local_ba_calls"], " | ".join(cells), ate))
+        e = json.load(open(ev))
+        ate = "%.4f" % e["ate"]["stats"]["rmse"]
+        rpe = "%.4f / %.3f" % (e["rpe"]["translational_m"]["rmse"], e["rpe"]["rotational_deg"]["rmse"])
+    lines.append("| %s | %d | %d | %d | %s | %s | %s |" % (os.path.basename(run), j["frames_processed"],
+                 j["keyframes"], j["local_ba_calls"], " | ".join(cells), ate, rpe))
 text = "\n".join(lines) + "\n"
 tmp = out + ".tmp"
 open(tmp, "w").write(text)

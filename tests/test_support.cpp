@@ -21,8 +21,10 @@ std::string ScratchDir(const std::string& name) {
   return dir;
 }
 
-CommandResult RunDynref(const std::string& args) {
-  const std::string cmd = "'" + DynrefExe() + "' " + args + " 2>&1";
+CommandResult RunDynref(const std::string& args) { return RunShell(Quote(DynrefExe()) + " " + args); }
+
+CommandResult RunShell(const std::string& command) {
+  const std::string cmd = command + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) throw std::runtime_error("popen failed: " + cmd);
   CommandResult r;

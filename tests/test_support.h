@@ -13,11 +13,12 @@ struct CommandResult {
   int exit_code = -1;
   std::string output;  // stdout and stderr together
 };
-// Runs "build/dynref <args>" through the shell, capturing output.
-CommandResult RunDynref(const std::string& args);
-
 // Single-quoted for the shell (paths in RunDynref arguments).
 inline std::string Quote(const std::string& s) { return "'" + s + "'"; }
+// Runs "build/dynref <args>" through the shell, capturing output.
+CommandResult RunDynref(const std::string& args);
+// Runs a shell command line, capturing stdout and stderr.
+CommandResult RunShell(const std::string& command);
 bool FileExists(const std::string& path);
 // Whole file as bytes ("" when it cannot be read).
 std::string ReadFileBytes(const std::string& path);
