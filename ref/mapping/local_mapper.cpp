@@ -14,7 +14,6 @@ namespace dynref::mapping {
 namespace {
 
 using features::DescriptorDistance;
-using features::kHistoLength;
 using features::kThLow;
 
 Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
@@ -64,7 +63,6 @@ std::vector<std::pair<int, int>> SearchForTriangulation(const KeyFrame& k1, cons
     if (free_feature(k2, j)) cand2.push_back(static_cast<int>(j));
   std::vector<int> matched2(k2.N(), -1);
   std::vector<std::pair<int, int>> pairs;
-  std::vector<std::vector<int>> hist(kHistoLength);
   for (size_t i = 0; i < k1.N(); ++i) {
     if (!free_feature(k1, i)) continue;
     const cv::KeyPoint& kp1 = k1.frame.keys_un[i];
@@ -89,21 +87,11 @@ std::vector<std::pair<int, int>> SearchForTriangulation(const KeyFrame& k1, cons
     if (best_idx >= 0) {
       matched2[best_idx] = static_cast<int>(i);
       pairs.emplace_back(static_cast<int>(i), best_idx);
-      hist[features::RotationBin(kp1.angle, k2.frame.keys_un[best_idx].angle)].push_back(
-          static_cast<int>(pairs.size()) - 1);
     }
   }
-  int ind1, ind2, ind3;
-  features::ComputeThreeMaxima(hist, &ind1, &ind2, &ind3);
-  std::vector<uint8_t> keep(pairs.size(), 1);
-  for (int b = 0; b < kHistoLength; ++b) {
-    if (b == ind1 || b == ind2 || b == ind3) continue;
-    for (int p : hist[b]) keep[p] = 0;
-  }
-  std::vector<std::pair<int, int>> out;
-  for (size_t p = 0; p < pairs.size(); ++p)
-    if (keep[p]) out.push_back(pairs[p]);
-  return out;
+  // No rotation-consistency check: LocalMapping::CreateNewMapPoints builds its matcher with
+  // checkOri = false (ORBmatcher matcher(0.6, false)).
+  return pairs;
 }
 
 }  // namespace
@@ -191,9 +179,12 @@ int LocalMapper::CreateNewMapPoints(KeyFrame& kf) {
       const Eigen::Vector3d ray1 = kf.T_cw.linear().transpose() * xn1;
       const Eigen::Vector3d ray2 = k2->T_cw.linear().transpose() * xn2;
       const double cos_rays = ray1.dot(ray2) / (ray1.norm() * ray2.norm());
+      // ORB-SLAM2 LocalMapping::CreateNewMapPoints computes the stereo parallax of the second
+      // keyframe only when the current keyframe's feature has no depth: with depth in both, the
+      // current keyframe's parallax decides and its depth is used when the rays are too close.
       double cos_stereo1 = cos_rays + 1, cos_stereo2 = cos_rays + 1;
       if (stereo1) cos_stereo1 = std::cos(2 * std::atan2(cam.baseline_m() / 2, kf.frame.depth[i1]));
-      if (stereo2) cos_stereo2 = std::cos(2 * std::atan2(cam.baseline_m() / 2, k2->frame.depth[i2]));
+      else if (stereo2) cos_stereo2 = std::cos(2 * std::atan2(cam.baseline_m() / 2, k2->frame.depth[i2]));
       const double cos_stereo = std::min(cos_stereo1, cos_stereo2);
       Eigen::Vector3d X;
       if (cos_rays < cos_stereo && cos_rays > 0 && (stereo1 || stereo2 || cos_rays < 0.9998)) {

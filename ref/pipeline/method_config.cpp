@@ -31,6 +31,10 @@ const Default kBackboneDefaults[] = {
     {"local_ba", "true", "default: ORB-SLAM2 local mapping runs local BA"},
     {"keyframe_culling", "true", "default: ORB-SLAM2 LocalMapping::KeyFrameCulling"},
     {"seed", "1", "not stated: seed of dynref's named RNG streams (relocalisation RANSAC)"},
+    {"camera_rgb_flag", "true",
+     "default: ORB-SLAM2 TUM1-3.yaml Camera.RGB: 1 applied to cv::imread's BGR images "
+     "(Tracking::GrabImageRGBD converts with CV_RGB2GRAY, so blue gets red's weight); "
+     "false = luminance of the true colours (COLOR_BGR2GRAY)"},
 };
 
 int LineOf(const YAML::Node& n) { return n.Mark().line >= 0 ? n.Mark().line + 1 : 0; }
@@ -138,6 +142,7 @@ MethodConfig LoadMethodConfig(const std::string& path) {
   if (bb.reloc_recent_keyframes() < 1) bad("reloc_recent_keyframes", "must be >= 1");
   (void)bb.local_ba();
   (void)bb.keyframe_culling();
+  (void)bb.camera_rgb_flag();
   if (bb.params.at("seed").AsInt() < 0) bad("seed", "must be >= 0");
 
   if (root["stages"]) {

@@ -26,6 +26,7 @@ struct BackboneConfig {
   bool local_ba() const { return params.at("local_ba").AsBool(); }
   bool keyframe_culling() const { return params.at("keyframe_culling").AsBool(); }
   uint64_t seed() const { return static_cast<uint64_t>(params.at("seed").AsInt()); }
+  bool camera_rgb_flag() const { return params.at("camera_rgb_flag").AsBool(); }
 };
 
 struct StageConfig {

@@ -157,6 +157,7 @@ RunResult RunSequence(const RunOptions& options) {
   topt.max_frames = cfg.backbone.max_frames();
   topt.reloc_recent_keyframes = cfg.backbone.reloc_recent_keyframes();
   topt.seed = cfg.backbone.seed();
+  const bool rgb_flag = cfg.backbone.camera_rgb_flag();
   tracking::Tracker tracker(camera, map, topt, trace);
   mapping::LocalMapperOptions mopt;
   mopt.local_ba = cfg.backbone.local_ba();
@@ -194,7 +195,10 @@ RunResult RunSequence(const RunOptions& options) {
     }
     if (det_reader || det_source) f.detections = &dets;
     const auto t_loaded = Clock::now();
-    cv::cvtColor(f.rgb, f.grey, cv::COLOR_BGR2GRAY);
+    // f.rgb is BGR (cv::imread). ORB-SLAM2's rgbd_tum with Camera.RGB: 1 (TUM1-3.yaml) converts
+    // those BGR images with CV_RGB2GRAY, so blue gets red's weight; backbone.camera_rgb_flag
+    // reproduces that grey image (default), false gives the true luminance.
+    cv::cvtColor(f.rgb, f.grey, rgb_flag ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
     if (cv::countNonZero(f.depth_m > 0) == 0) ++n_zero_depth;
     extractor.Extract(f.grey, &f.keys, &f.descriptors);
     f.pyramid = pyramid;

@@ -147,7 +147,8 @@ bool Tracker::TrackReferenceKeyFrame(Frame& f) {
   const int n = SearchByBruteForce(*ref, f, map_, 0.7f, true);
   trace_.FrameCount("track.reference_kf", "matches", n);
   if (n < 15) return false;
-  UpdateLastFramePose();
+  // ORB-SLAM2 TrackReferenceKeyFrame starts from the last frame's pose as it stands (refreshed
+  // from its reference keyframe only if the motion model ran first and failed).
   f.T_cw = last_.T_cw;
   OptimizePose(f);
   return DiscardOutliers(f) >= 10;
@@ -205,14 +206,18 @@ void Tracker::UpdateLocalKeyFrames(Frame& f) {
     local_kfs_.push_back(id);
     return true;
   };
-  for (size_t j = 0; j < local_kfs_.size(); ++j) {
+  // ORB-SLAM2 Tracking::UpdateLocalKeyFrames expands only the keyframes that observe a matched
+  // point (its loop end is fixed before the neighbours are appended), and adding a parent ends
+  // the expansion (the break there leaves the outer loop).
+  const size_t n_observing = local_kfs_.size();
+  for (size_t j = 0; j < n_observing; ++j) {
     if (local_kfs_.size() > 80) break;  // ORB-SLAM2 limit
     const KeyFrame* k = map_.kf(local_kfs_[j]);
     for (int64_t n : k->BestCovisibles(10))
       if (add(n)) break;
     for (const auto& kv : map_.keyframes)
       if (kv.second->parent == k->id && add(kv.first)) break;
-    if (k->parent >= 0) add(k->parent);
+    if (k->parent >= 0 && add(k->parent)) break;
   }
   if (kf_max >= 0) reference_kf_ = kf_max;
 }
@@ -275,7 +280,16 @@ bool Tracker::OptimizeFinal(Frame& f) {
   }
   trace_.FrameCount("track.final", "inliers", matches_inliers_);
   if (f.index < last_reloc_frame_ + options_.max_frames && matches_inliers_ < 50) return false;
-  return matches_inliers_ >= 30;
+  if (matches_inliers_ < 30) return false;
+  // ORB-SLAM2 Tracking::Track updates the motion model right after TrackLocalMap, with the last
+  // frame pose used for tracking this frame, i.e. before local mapping moves its reference KF.
+  if (has_last_ && last_.has_pose) {
+    velocity_ = f.T_cw * last_.T_cw.inverse();
+    has_velocity_ = true;
+  } else {
+    has_velocity_ = false;
+  }
+  return true;
 }
 
 bool Tracker::NeedNewKeyFrame(const Frame& f) const {
@@ -309,8 +323,9 @@ KeyFrame* Tracker::CreateNewKeyFrame(Frame& f) {
   // keyframe until local mapping; dropping them is the cleaner equivalent).
   for (size_t i = 0; i < f.N(); ++i)
     if (f.outlier[i]) f.map_point_ids[i] = -1;
+  // No parent here: ORB-SLAM2 sets the spanning-tree parent in KeyFrame::UpdateConnections (its
+  // first connection: the keyframe sharing most points), run by local mapping.
   KeyFrame* k = map_.AddKeyFrame(KeyFrameFromFrame(f));
-  k->parent = reference_kf_;
   reference_kf_ = k->id;
   // New map points from depth, closest first, until 100 beyond the close threshold (ORB-SLAM2
   // Tracking::CreateNewKeyFrame).
@@ -369,6 +384,7 @@ KeyFrame* Tracker::TryInitialise(Frame& f) {
   reference_kf_ = k->id;
   last_kf_frame_ = f.index;
   local_kfs_ = {k->id};
+  has_velocity_ = false;
   state_ = TrackState::kOk;
   return k;
 }
@@ -379,13 +395,6 @@ void Tracker::FinishFrame(Frame& f, bool ok) {
   rec.stamp = f.stamp;
   rec.stamp_text = f.stamp_text;
   if (ok) {
-    if (has_last_ && last_.has_pose) {
-      UpdateLastFramePose();
-      velocity_ = f.T_cw * last_.T_cw.inverse();
-      has_velocity_ = true;
-    } else {
-      has_velocity_ = false;
-    }
     for (size_t i = 0; i < f.N(); ++i) {
       const int64_t id = f.map_point_ids[i];
       if (id < 0) continue;
@@ -396,7 +405,10 @@ void Tracker::FinishFrame(Frame& f, bool ok) {
     f.has_pose = true;
     const KeyFrame* ref = map_.kf(reference_kf_);
     rec.ref_kf = reference_kf_;
-    rec.T_cr = f.T_cw * ref->T_cw.inverse();
+    // ORB-SLAM2 Tracking::Track stores Tcw * Tref^-1 before local mapping processes a new
+    // keyframe; for a keyframe made from this frame that is the identity, so the trajectory
+    // follows the keyframe's optimised pose (local BA has already run when FinishFrame is called).
+    rec.T_cr = ref->frame_index == f.index ? SE3::Identity() : f.T_cw * ref->T_cw.inverse();
     rec.lost = false;
   } else {
     if (state_ != TrackState::kNotInitialised) state_ = TrackState::kLost;

@@ -54,11 +54,12 @@ class Tracker {
   bool TrackInitial(Frame& f);
   // Local map search (ORB-SLAM2 UpdateLocalMap + SearchLocalPoints), no optimisation.
   void SearchLocalMap(Frame& f);
-  // Final pose optimisation and ORB-SLAM2's TrackLocalMap success test.
+  // Final pose optimisation and ORB-SLAM2's TrackLocalMap success test; on success updates the
+  // motion model (before local mapping, as ORB-SLAM2 Tracking::Track).
   bool OptimizeFinal(Frame& f);
   bool NeedNewKeyFrame(const Frame& f) const;
   KeyFrame* CreateNewKeyFrame(Frame& f);
-  // Ends the frame: velocity, outlier cleanup, last frame, trajectory record.
+  // Ends the frame: outlier cleanup, last frame, trajectory record.
   void FinishFrame(Frame& f, bool ok);
   int matches_inliers() const { return matches_inliers_; }
   int pose_calls() const { return pose_call_; }
