@@ -43,13 +43,13 @@ for seq in "${SEQS[@]}"; do
   RUNS+=("$run")
 done
 
-python3 - "$OUT/backbone_runtime.md" "$(git rev-parse --short=12 HEAD 2>/dev/null || echo unknown)" \
+python3 - "$OUT/backbone_runtime.md" "$("$DYNREF" version)" \
   "${RUNS[@]}" <<'EOF'
 import json, os, sys
-out, commit, runs = sys.argv[1], sys.argv[2], sys.argv[3:]
+out, version, runs = sys.argv[1], sys.argv[2], sys.argv[3:]
 modules = ["load", "extraction", "tracking", "local_mapping", "ba", "slam", "total"]
 lines = ["# dynref backbone runtime (`--method orb --trace off`, one core, 640x480, 1000 features)", "",
-         f"dynref commit {commit}. Milliseconds per frame, thread CPU time: median / mean over all",
+         f"Built by `{version}`. Milliseconds per frame, thread CPU time: median / mean over all",
          "frames. `slam` = everything after image decoding (extraction + tracking + local mapping + BA,",
          "ORB-SLAM2's TrackRGBD span with local mapping run sequentially); `total` = load + slam.",
          "Local mapping and BA run only on keyframes, so their medians are 0 when fewer than half",
