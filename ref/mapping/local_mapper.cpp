@@ -400,7 +400,10 @@ int LocalMapper::KeyFrameCulling(const KeyFrame& kf) {
   const std::vector<int64_t> covisibles = kf.ordered_covisibles;
   for (int64_t k_id : covisibles) {
     const KeyFrame* k = map_.kf(k_id);
-    if (k == nullptr || k->bad || k_id == 0) continue;
+    // A keyframe without a spanning-tree parent (no shared points when it was connected) is
+    // never culled: its trajectory frames could not be re-anchored (ORB-SLAM2 would dereference
+    // a null parent in KeyFrame::SetBadFlag).
+    if (k == nullptr || k->bad || k_id == 0 || k->parent < 0) continue;
     int n_mps = 0, redundant = 0;
     for (size_t i = 0; i < k->N(); ++i) {
       const int64_t id = k->map_point_ids[i];

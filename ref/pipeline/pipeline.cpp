@@ -85,7 +85,6 @@ void RunOptions::Check() const {
   if (overlays && trace_level == "off") throw InputError("dynref run", "--overlays needs a trace (--trace frames|full)");
 }
 
-
 RunResult RunSequence(const RunOptions& options) {
   options.Check();
   // ---- configuration and inputs (bad input here throws: exit 2, nothing written) ----
