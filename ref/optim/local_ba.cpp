@@ -25,31 +25,18 @@ void LocalBAOptions::Check() const {
 
 namespace {
 
-struct BAEdge {
+// An edge of the BA graph: the shared per-observation model plus its keyframe and point.
+struct BAEdge : EdgeModel {
   size_t kf = 0;     // index into keyframes
   size_t point = 0;  // index into points
-  bool stereo = false;
-  Eigen::Vector3d obs;
-  double info = 0;
-  double threshold = 0;
 };
 
-// chi2 of one edge at the current parameters; +inf when the point is not in front of the camera
-// (ORB-SLAM2: !e->isDepthPositive() => outlier).
+// chi2 of one edge at the current parameters (EdgeChi2 in reprojection.h; ORB-SLAM2:
+// !e->isDepthPositive() => outlier).
 double EdgeChi2(const Intrinsics& K, const std::vector<SE3>& T_cw,
                 const std::vector<Eigen::Vector3d>& X_w, const BAEdge& edge,
                 std::vector<double>* raw) {
-  double e[3] = {0, 0, 0};
-  const int dof = edge.stereo ? 3 : 2;
-  const SE3& T = T_cw[edge.kf];
-  const Eigen::Vector3d& X = X_w[edge.point];
-  const bool ok =
-      edge.stereo ? RawResidual<3>(K, T, X, edge.obs, e) : RawResidual<2>(K, T, X, edge.obs, e);
-  if (raw != nullptr) raw->assign(e, ok ? e + dof : e);
-  if (!ok) return std::numeric_limits<double>::infinity();
-  double sq = 0;
-  for (int k = 0; k < dof; ++k) sq += e[k] * e[k];
-  return edge.info * sq;
+  return optim::EdgeChi2(K, T_cw[edge.kf], X_w[edge.point], edge, raw);
 }
 
 // Index of each id in input order; duplicates are bad input.
@@ -194,10 +181,8 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
     BAEdge& e = edges[i];
     e.kf = kf->second;
     e.point = pt->second;
-    e.stereo = o.u_right >= 0;
-    e.obs = Eigen::Vector3d(o.uv.x(), o.uv.y(), o.u_right);
-    e.info = o.inv_sigma2 * o.weight;
-    e.threshold = e.stereo ? options.chi2_stereo : options.chi2_mono;
+    static_cast<EdgeModel&>(e) = MakeEdgeModel(o.uv, o.u_right, o.inv_sigma2, o.weight,
+                                               options.chi2_mono, options.chi2_stereo);
   }
 
   const bool log = trace != nullptr && trace->full_enabled();

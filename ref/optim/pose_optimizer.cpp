@@ -24,29 +24,6 @@ void PoseOnlyOptions::Check() const {
 
 namespace {
 
-// Per-observation constants derived once from the input.
-struct Edge {
-  bool stereo = false;   // rgbd3 residual (u_right >= 0) or mono2
-  Eigen::Vector3d obs;   // (u, v, u_right)
-  double info = 0;       // inv_sigma2 * weight
-  double threshold = 0;  // chi2 threshold for this residual kind
-};
-
-// Raw residual and chi2 of one edge at T_cw; chi2 = +inf (outlier) when the point is not in
-// front of the camera.
-double EdgeChi2(const Intrinsics& K, const SE3& T_cw, const Eigen::Vector3d& X_w, const Edge& edge,
-                std::vector<double>* raw) {
-  double e[3] = {0, 0, 0};
-  const int dof = edge.stereo ? 3 : 2;
-  const bool ok = edge.stereo ? RawResidual<3>(K, T_cw, X_w, edge.obs, e)
-                              : RawResidual<2>(K, T_cw, X_w, edge.obs, e);
-  if (raw != nullptr) raw->assign(e, ok ? e + dof : e);
-  if (!ok) return std::numeric_limits<double>::infinity();
-  double sq = 0;
-  for (int k = 0; k < dof; ++k) sq += e[k] * e[k];
-  return edge.info * sq;
-}
-
 ceres::Solver::Options MakeSolverOptions(int iterations) {
   ceres::Solver::Options opts;
   opts.minimizer_type = ceres::TRUST_REGION;
@@ -67,18 +44,15 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
                             const std::string& call_id) {
   options.Check();
   const size_t n = observations.size();
-  std::vector<Edge> edges(n);
+  std::vector<EdgeModel> edges(n);
   for (size_t i = 0; i < n; ++i) {
     const PoseObservation& o = observations[i];
     if (!(o.inv_sigma2 >= 0) || !(o.weight >= 0)) {
       throw InputError("OptimizePose",
                        "observation " + o.obs_id + ": inv_sigma2 and weight must be >= 0");
     }
-    Edge& e = edges[i];
-    e.stereo = o.u_right >= 0;
-    e.obs = Eigen::Vector3d(o.uv.x(), o.uv.y(), o.u_right);
-    e.info = o.inv_sigma2 * o.weight;
-    e.threshold = e.stereo ? options.chi2_stereo : options.chi2_mono;
+    edges[i] = MakeEdgeModel(o.uv, o.u_right, o.inv_sigma2, o.weight, options.chi2_mono,
+                             options.chi2_stereo);
   }
 
   const bool log = trace != nullptr && trace->full_enabled();

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <vector>
 
 #include "core/se3.h"
 #include "optim/optim.h"
@@ -130,6 +131,21 @@ bool RawResidual(const Intrinsics& K, const SE3& T_cw, const Eigen::Vector3d& X_
 
 // g2o RobustKernelHuber on a squared error s with delta^2 = delta2.
 double HuberRho(double s, double delta2);
+
+// Per-observation constants shared by pose-only optimisation and local BA (optim.h conventions).
+struct EdgeModel {
+  bool stereo = false;                            // rgbd3 (u_right >= 0) or mono2
+  Eigen::Vector3d obs = Eigen::Vector3d::Zero();  // (u, v, u_right)
+  double info = 0;                                // inv_sigma2 * weight
+  double threshold = 0;                           // chi2 threshold of this residual kind
+};
+EdgeModel MakeEdgeModel(const Eigen::Vector2d& uv, double u_right, double inv_sigma2, double weight,
+                        double chi2_mono, double chi2_stereo);
+
+// chi2 = info * |obs - pi(T_cw X_w)|^2 of one edge; +inf (outlier) when the point is not in front
+// of the camera. The raw (unwhitened) residual goes to *raw when given (empty when invalid).
+double EdgeChi2(const Intrinsics& K, const SE3& T_cw, const Eigen::Vector3d& X_w,
+                const EdgeModel& edge, std::vector<double>* raw);
 
 extern template class PoseOnlyCost<2>;
 extern template class PoseOnlyCost<3>;
