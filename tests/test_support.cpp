@@ -36,6 +36,11 @@ CommandResult RunShell(const std::string& command) {
   return r;
 }
 
+std::string WriteText(const std::string& path, const std::string& text) {
+  std::ofstream(path) << text;
+  return path;
+}
+
 bool FileExists(const std::string& path) {
   struct stat st {};
   return ::stat(path.c_str(), &st) == 0;

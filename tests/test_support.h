@@ -20,6 +20,8 @@ CommandResult RunDynref(const std::string& args);
 // Runs a shell command line, capturing stdout and stderr.
 CommandResult RunShell(const std::string& command);
 bool FileExists(const std::string& path);
+// Writes text to path (plain write: test inputs, often deliberately broken); returns path.
+std::string WriteText(const std::string& path, const std::string& text);
 // Whole file as bytes ("" when it cannot be read).
 std::string ReadFileBytes(const std::string& path);
 // Runs dynref and expects bad-input exit code 2 with `fragment` (usually "file:line:") in the output.

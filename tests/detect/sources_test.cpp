@@ -13,6 +13,7 @@
 using namespace dynref;
 using dynref::test::ScratchDir;
 using dynref::test::SourcePath;
+using dynref::test::WriteText;
 
 namespace {
 
@@ -45,10 +46,6 @@ void WriteFolder(const std::string& dir, const std::vector<std::string>& stamps,
   DetectionsWriter w(dir, source, "-");
   for (const auto& s : stamps) w.Write(SampleFrame(s));
   w.Finish();
-}
-
-void WriteText(const std::string& path, const std::string& text) {
-  std::ofstream(path) << text;
 }
 
 }  // namespace

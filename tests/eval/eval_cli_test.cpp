@@ -10,13 +10,9 @@
 using dynref::test::ExpectBadInput;
 using dynref::test::Quote;
 using dynref::test::RunDynref;
+using dynref::test::WriteText;
 
 namespace {
-
-std::string Write(const std::string& path, const std::string& text) {
-  std::ofstream(path) << text;
-  return path;
-}
 
 const std::string kTraj =
     "1.0 0 0 0 0 0 0 1\n1.03125 0.1 0 0 0 0 0 1\n1.0625 0.2 0 0 0 0 0 1\n"
@@ -26,25 +22,25 @@ const std::string kTraj =
 
 TEST_CASE("eval cli: bad trajectories exit 2 naming file and line") {
   const std::string d = dynref::test::ScratchDir("eval_cli_bad");
-  const std::string gt = Write(d + "/gt.txt", kTraj);
+  const std::string gt = WriteText(d + "/gt.txt", kTraj);
   auto eval = [&](const std::string& est) { return "eval --gt " + Quote(gt) + " --est " + Quote(est); };
   ExpectBadInput(eval(d + "/missing.txt"), d + "/missing.txt: file not found");
   ExpectBadInput("eval --gt " + Quote(d + "/nogt.txt") + " --est " + Quote(gt), d + "/nogt.txt: file not found");
-  ExpectBadInput(eval(Write(d + "/malformed.txt", kTraj + "1.2 0 0 0 0 0 1\n")), d + "/malformed.txt:6: malformed line");
-  ExpectBadInput(eval(Write(d + "/nonnum.txt", "# x\n" + kTraj + "1.2 0 0 0 0 0 0 one\n")),
+  ExpectBadInput(eval(WriteText(d + "/malformed.txt", kTraj + "1.2 0 0 0 0 0 1\n")), d + "/malformed.txt:6: malformed line");
+  ExpectBadInput(eval(WriteText(d + "/nonnum.txt", "# x\n" + kTraj + "1.2 0 0 0 0 0 0 one\n")),
             d + "/nonnum.txt:7: field qw 'one' is not a number");
-  ExpectBadInput(eval(Write(d + "/nan.txt", "1.0 0 0 0 0 0 0 1\n1.1 0 NaN 0 0 0 0 1\n")),
+  ExpectBadInput(eval(WriteText(d + "/nan.txt", "1.0 0 0 0 0 0 0 1\n1.1 0 NaN 0 0 0 0 1\n")),
             d + "/nan.txt:2: pose field ty is NaN");
-  ExpectBadInput(eval(Write(d + "/inf.txt", "1.0 0 0 inf 0 0 0 1\n")), d + "/inf.txt:1: pose field tz is inf");
-  ExpectBadInput(eval(Write(d + "/quat.txt", "1.0 0 0 0 0.1 0 0 1\n")), d + "/quat.txt:1: quaternion not normalised");
-  ExpectBadInput(eval(Write(d + "/order.txt", "2.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n")),
+  ExpectBadInput(eval(WriteText(d + "/inf.txt", "1.0 0 0 inf 0 0 0 1\n")), d + "/inf.txt:1: pose field tz is inf");
+  ExpectBadInput(eval(WriteText(d + "/quat.txt", "1.0 0 0 0 0.1 0 0 1\n")), d + "/quat.txt:1: quaternion not normalised");
+  ExpectBadInput(eval(WriteText(d + "/order.txt", "2.0 0 0 0 0 0 0 1\n1.0 0 0 0 0 0 0 1\n")),
             d + "/order.txt:2: timestamps not increasing");
-  ExpectBadInput("eval --gt " + Quote(Write(d + "/empty.txt", "# nothing\n")) + " --est " + Quote(gt),
+  ExpectBadInput("eval --gt " + Quote(WriteText(d + "/empty.txt", "# nothing\n")) + " --est " + Quote(gt),
             d + "/empty.txt: no poses");
-  ExpectBadInput(eval(Write(d + "/far.txt", "500 0 0 0 0 0 0 1\n501 0 0 0 0 0 0 1\n")),
+  ExpectBadInput(eval(WriteText(d + "/far.txt", "500 0 0 0 0 0 0 1\n501 0 0 0 0 0 0 1\n")),
             d + "/far.txt: zero associated pairs");
   // A quaternion within 1e-3 of unit length is normalised and accepted.
-  const auto ok = RunDynref(eval(Write(d + "/nearunit.txt", "1.0 0 0 0 0 0 0 1.0005\n1.03125 0.1 0 0 0 0 0 1\n"
+  const auto ok = RunDynref(eval(WriteText(d + "/nearunit.txt", "1.0 0 0 0 0 0 0 1.0005\n1.03125 0.1 0 0 0 0 0 1\n"
                                                            "1.0625 0.2 0 0 0 0 0 1\n1.09375 0.3 0 0 0 0 0 0.9995\n"
                                                            "1.125 0.4 0 0 0 0 0 1\n")) +
                             " --delta 1 --delta-unit f");
@@ -71,7 +67,7 @@ TEST_CASE("eval cli: --json is written atomically and runs are byte-identical") 
   CHECK(b.output == a.output);
   CHECK(dynref::test::ReadFileBytes(json) == first);
   // A failing run leaves the previous result untouched and no temp file behind.
-  const std::string bad = Write(d + "/bad.txt", "1 0 0 0 0 0 0 1\n0.5 0 0 0 0 0 0 1\n");
+  const std::string bad = WriteText(d + "/bad.txt", "1 0 0 0 0 0 0 1\n0.5 0 0 0 0 0 0 1\n");
   ExpectBadInput("eval --gt " + Quote(gt) + " --est " + Quote(bad) + " --json " + Quote(json), "bad.txt:2:");
   CHECK(dynref::test::ReadFileBytes(json) == first);
   const auto c = RunDynref("eval --gt " + Quote(gt) + " --est " + Quote(bad) + " --json " + Quote(d + "/new.json"));

@@ -13,13 +13,9 @@
 using dynref::test::ExpectBadInput;
 using dynref::test::Quote;
 using dynref::test::RunDynref;
+using dynref::test::WriteText;
 
 namespace {
-
-std::string Write(const std::string& path, const std::string& text) {
-  std::ofstream(path) << text;
-  return path;
-}
 
 // A tiny sequence folder: n frames of 8x6 images, camera.yaml with the same size.
 void MakeSequence(const std::string& dir, int n, int depth_type, cv::Size depth_size) {
@@ -37,8 +33,8 @@ void MakeSequence(const std::string& dir, int n, int depth_type, cv::Size depth_
     rgb_txt += stamp + " rgb/" + stamp + ".png\n";
     depth_txt += stamp + " depth/" + stamp + ".png\n";
   }
-  Write(dir + "/rgb.txt", rgb_txt);
-  Write(dir + "/depth.txt", depth_txt);
+  WriteText(dir + "/rgb.txt", rgb_txt);
+  WriteText(dir + "/depth.txt", depth_txt);
 }
 
 }  // namespace
@@ -80,27 +76,27 @@ TEST_CASE("info cli: real sequence and bad sequence folders exit 2 naming file a
   ExpectBadInput("info " + Quote(mismatch), mismatch + "/depth.txt:2: image size mismatch");
 
   const std::string malformed = fresh("malformed");
-  Write(malformed + "/rgb.txt", "10.000000 rgb/10.000000.png\n11.000000\n");
+  WriteText(malformed + "/rgb.txt", "10.000000 rgb/10.000000.png\n11.000000\n");
   ExpectBadInput("info " + Quote(malformed), malformed + "/rgb.txt:2: malformed line");
 
   const std::string nonnum = fresh("nonnum");
-  Write(nonnum + "/depth.txt", "10.000000 depth/10.000000.png\nten depth/11.000000.png\n");
+  WriteText(nonnum + "/depth.txt", "10.000000 depth/10.000000.png\nten depth/11.000000.png\n");
   ExpectBadInput("info " + Quote(nonnum), nonnum + "/depth.txt:2: timestamp 'ten' is not a number");
 
   const std::string order = fresh("order");
-  Write(order + "/rgb.txt", "11.000000 rgb/11.000000.png\n10.000000 rgb/10.000000.png\n");
+  WriteText(order + "/rgb.txt", "11.000000 rgb/11.000000.png\n10.000000 rgb/10.000000.png\n");
   ExpectBadInput("info " + Quote(order), order + "/rgb.txt:2: timestamps not increasing");
 
   const std::string zero = fresh("zero_pairs");
-  Write(zero + "/depth.txt", "50.000000 depth/10.000000.png\n");
+  WriteText(zero + "/depth.txt", "50.000000 depth/10.000000.png\n");
   ExpectBadInput("info " + Quote(zero), zero + "/rgb.txt: zero associated RGB/depth pairs");
 
   const std::string empty_gt = fresh("empty_gt");
-  Write(empty_gt + "/groundtruth.txt", "# ground truth trajectory\n");
+  WriteText(empty_gt + "/groundtruth.txt", "# ground truth trajectory\n");
   ExpectBadInput("info " + Quote(empty_gt), empty_gt + "/groundtruth.txt: no poses");
 
   const std::string nan_gt = fresh("nan_gt");
-  Write(nan_gt + "/groundtruth.txt", "10.0 0 0 0 0 0 0 1\n10.5 nan 0 0 0 0 0 1\n");
+  WriteText(nan_gt + "/groundtruth.txt", "10.0 0 0 0 0 0 0 1\n10.5 nan 0 0 0 0 0 1\n");
   ExpectBadInput("info " + Quote(nan_gt), nan_gt + "/groundtruth.txt:2: pose field tx is nan");
 
   // No camera.yaml and an uninformative folder name: asks for --camera.
