@@ -7,7 +7,6 @@
 
 #include "cli/command.h"
 #include "core/error.h"
-#include "core/frame_range.h"
 #include "pipeline/pipeline.h"
 
 namespace dynref::cli {
@@ -28,11 +27,7 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
   app->add_flag("--overlays", opts->overlays, "render RUN/overlays/overlay_<frame>.png after the run");
   app->add_flag("!--no-progress", opts->progress, "no progress line on stderr");
   out.push_back({app, [opts, frames] {
-                   if (!frames->empty()) {
-                     const FrameRange range = ParseFrameRange(*frames);
-                     opts->first_frame = range.first;
-                     opts->last_frame = range.last;
-                   }
+                   if (!frames->empty()) opts->frames = ParseFrameRange(*frames);
                    const RunResult r = RunSequence(*opts);
                    std::cout << "dynref run: " << r.frames << " frames, " << r.tracked << " tracked, " << r.lost
                              << " lost, " << r.keyframes << " keyframes; end state: " << r.end_state << "\n";

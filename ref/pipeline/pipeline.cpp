@@ -14,7 +14,6 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "core/frame_range.h"
 #include "core/format.h"
 #include "core/rng.h"
 #include "core/sha256.h"
@@ -78,8 +77,8 @@ void RunStages(std::vector<std::unique_ptr<Stage>>& stages, Hook hook, StageCont
 void RunOptions::Check() const {
   if (sequence.empty()) throw InputError("dynref run", "--sequence is required");
   if (out_dir.empty()) throw InputError("dynref run", "--out is required");
-  if (first_frame < 0) throw InputError("dynref run", "--frames: first frame must be >= 0");
-  if (last_frame >= 0 && last_frame < first_frame) throw InputError("dynref run", "--frames: B < A");
+  if (frames.first < 0 || (!frames.open_ended() && frames.last < frames.first))
+    throw InputError("dynref run", "--frames: need 0 <= A <= B");
   if (!detections_dir.empty() && !detector.empty())
     throw InputError("dynref run", "--detections and --detector are exclusive");
   if (overlays && trace_level == "off") throw InputError("dynref run", "--overlays needs a trace (--trace frames|full)");
@@ -110,11 +109,10 @@ RunResult RunSequence(const RunOptions& options) {
     detector_name = det_source->name() + " sha256:" + det_source->model_sha256();
   }
   // --frames must lie inside the sequence (same rule as detect and overlay).
-  const int64_t last_frame = FrameRange{options.first_frame, options.last_frame}.LastIn(
-      static_cast<int64_t>(seq.frames.size()));
+  const int64_t last_frame = options.frames.LastIn(static_cast<int64_t>(seq.frames.size()));
   std::vector<FrameEntry> frames;
   for (const FrameEntry& e : seq.frames)
-    if (e.index >= options.first_frame && e.index <= last_frame) frames.push_back(e);
+    if (e.index >= options.frames.first && e.index <= last_frame) frames.push_back(e);
   fs::create_directories(options.out_dir);
 
   trace::RunHeader header;

@@ -12,6 +12,8 @@
 #pragma once
 #include <string>
 
+#include "core/frame_range.h"
+
 namespace dynref {
 
 struct RunOptions {
@@ -23,7 +25,7 @@ struct RunOptions {
   std::string detections_dir;    // dynref-detections folder (optional)
   std::string detector;          // detection source spec (ref/detect), optional
   std::string camera;            // preset / YAML; empty = auto
-  int64_t first_frame = 0, last_frame = -1;  // inclusive range of sequence indices; -1 = to the end
+  FrameRange frames;             // --frames: inclusive sequence indices (default: all)
   bool progress = true;          // progress line when stderr is a terminal
   bool overlays = false;         // render RUN/overlays/ after the run (ref/render; needs a trace)
   void Check() const;            // InputError naming the bad field

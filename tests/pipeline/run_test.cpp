@@ -118,7 +118,7 @@ TEST_CASE("run: real fr1_desk frames, every frame-to-frame motion close to groun
 TEST_CASE("run: two runs give byte-identical trajectory and trace dump") {
   const std::string a = test::ScratchDir("run_det_a"), b = test::ScratchDir("run_det_b");
   RunOptions oa = Options(a, "full"), ob = Options(b, "full");
-  oa.last_frame = ob.last_frame = 4;
+  oa.frames.last = ob.frames.last = 4;
   REQUIRE(RunSequence(oa).exit_code == 0);
   REQUIRE(RunSequence(ob).exit_code == 0);
   CHECK(test::ReadFileBytes(a + "/trajectory.txt") == test::ReadFileBytes(b + "/trajectory.txt"));
@@ -145,7 +145,7 @@ TEST_CASE("run: everything masked out is never initialised, every frame listed a
   const std::string out = test::ScratchDir("run_masked");
   RunOptions o = Options(out, "frames");
   o.config_path = WriteConfig(out, "test.exclude_all");
-  o.last_frame = 3;
+  o.frames.last = 3;
   const RunResult r = RunSequence(o);
   CHECK(r.exit_code == 2);
   CHECK(r.tracked == 0);
@@ -160,7 +160,7 @@ TEST_CASE("run: per-feature weights reach pose optimisation and local BA") {
   const std::string a = test::ScratchDir("run_weight_a"), b = test::ScratchDir("run_weight_b");
   RunOptions oa = Options(a), ob = Options(b);
   ob.config_path = WriteConfig(b, "test.half_weight");
-  oa.last_frame = ob.last_frame = 4;
+  oa.frames.last = ob.frames.last = 4;
   REQUIRE(RunSequence(oa).exit_code == 0);
   REQUIRE(RunSequence(ob).exit_code == 0);
   CHECK(test::ReadFileBytes(a + "/trajectory.txt") != test::ReadFileBytes(b + "/trajectory.txt"));
