@@ -14,8 +14,9 @@ namespace dynref::cli {
 namespace {
 
 struct EvalArgs {
-  std::string gt, est, json;
+  std::string gt, est, json, save_rpe;
   double max_diff = 0.02;
+  double offset = 0.0;
   std::string assoc = "tum", align = "se3", delta_unit = "s", rpe_mode = "tum";
   double delta = 1.0;
 };
@@ -39,6 +40,7 @@ int RunEval(const EvalArgs& a) {
   AteOptions ate_opt;
   ate_opt.association = a.assoc == "evo" ? AssociationKind::kEvo : AssociationKind::kTum;
   ate_opt.max_difference_s = a.max_diff;
+  ate_opt.offset_s = a.offset;
   ate_opt.align = a.align == "sim3" ? AlignMode::kSim3
                   : a.align == "none" ? AlignMode::kNone
                                       : AlignMode::kSE3;
@@ -46,6 +48,7 @@ int RunEval(const EvalArgs& a) {
   RpeOptions rpe_opt;
   rpe_opt.delta = a.delta;
   rpe_opt.unit = a.delta_unit == "f" ? DeltaUnit::kFrames : DeltaUnit::kSeconds;
+  rpe_opt.offset_s = a.offset;
   rpe_opt.Check();
 
   // TUM's tools read files into a dict (the later of two equal stamps wins); evo keeps every
@@ -82,7 +85,7 @@ int RunEval(const EvalArgs& a) {
       << (evo ? "all kept as evo" : "later line kept as TUM");
   o << ")\n"
     << "  association    " << assoc_desc << ", max-diff " << FormatDouble17(a.max_diff)
-    << " s, offset 0\n"
+    << " s, offset " << FormatDouble17(a.offset) << " s (added to the estimate's stamps)\n"
     << "  pairs used     " << ate.matches.size() << " of " << gt_ate.poses.size() << " gt / "
     << est_ate.poses.size() << " est poses\n"
     << "  alignment      " << align_desc << ", scale " << FormatFixed(ate.alignment.scale, 6)
@@ -99,6 +102,7 @@ int RunEval(const EvalArgs& a) {
     << Row("rotational", rpe.rot_deg, "deg", false) << "\n";
   std::cout << o.str();
 
+  if (!a.save_rpe.empty()) WriteRpePairs(a.save_rpe, gt, est, rpe);
   if (!a.json.empty()) {
     nlohmann::json j;
     j["tool"] = "dynref eval";
@@ -108,7 +112,7 @@ int RunEval(const EvalArgs& a) {
                      {"duplicate_stamps", est_ate.duplicate_stamps}};
     j["association"] = {{"kind", AssociationKindName(ate_opt.association)},
                         {"max_diff_s", a.max_diff},
-                        {"offset_s", 0.0},
+                        {"offset_s", a.offset},
                         {"pairs", ate.matches.size()}};
     const Similarity3& S = ate.alignment;
     j["alignment"] = {{"mode", AlignModeName(ate_opt.align)},
@@ -145,6 +149,10 @@ void RegisterEvalCommand(CLI::App& root, CommandList& out) {
   app->add_option("--est", args->est, "Estimated TUM trajectory")->required();
   app->add_option("--max-diff", args->max_diff, "Association max time difference in s")
       ->capture_default_str();
+  app->add_option("--offset", args->offset,
+                  "Time offset in s added to the estimate's stamps before matching ground truth "
+                  "(evaluate_ate.py / evaluate_rpe.py --offset, evo --t_offset)")
+      ->capture_default_str();
   app->add_option("--assoc", args->assoc,
                   "tum: associate.py greedy one-to-one (evaluate_ate.py); evo: nearest "
                   "neighbour as evo_ape --t_max_diff")
@@ -163,6 +171,9 @@ void RegisterEvalCommand(CLI::App& root, CommandList& out) {
                   "RPE pair selection: tum = evaluate_rpe.py --fixed_delta, every pair")
       ->check(CLI::IsMember({"tum"}))
       ->capture_default_str();
+  app->add_option("--save-rpe", args->save_rpe,
+                  "Write every RPE pair as evaluate_rpe.py --save does: stamp_est0 stamp_est1 "
+                  "stamp_gt0 stamp_gt1 trans_error[m] rot_error[rad] (atomically)");
   app->add_option("--json", args->json, "Also write the results as JSON (atomically)");
   out.push_back({app, [args] { return RunEval(*args); }});
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/format.h"
 
@@ -12,6 +13,8 @@ void AteOptions::Check() const {
   if (!(max_difference_s > 0) || !std::isfinite(max_difference_s))
     throw InputError("--max-diff", "must be a finite number > 0, got " +
                                        FormatDouble17(max_difference_s));
+  if (!std::isfinite(offset_s))
+    throw InputError("--offset", "must be a finite number, got " + FormatDouble17(offset_s));
 }
 
 const char* DeltaUnitName(DeltaUnit unit) { return unit == DeltaUnit::kSeconds ? "s" : "f"; }
@@ -19,13 +22,16 @@ const char* DeltaUnitName(DeltaUnit unit) { return unit == DeltaUnit::kSeconds ?
 void RpeOptions::Check() const {
   if (!(delta > 0) || !std::isfinite(delta))
     throw InputError("--delta", "must be a finite number > 0, got " + FormatDouble17(delta));
+  if (!std::isfinite(offset_s))
+    throw InputError("--offset", "must be a finite number, got " + FormatDouble17(offset_s));
 }
 
 AteResult ComputeAte(const TumTrajectory& gt, const TumTrajectory& est,
                      const AteOptions& options) {
   options.Check();
   AteResult r;
-  r.matches = Associate(options.association, gt.Stamps(), est.Stamps(), options.max_difference_s);
+  r.matches = Associate(options.association, gt.Stamps(), est.Stamps(), options.max_difference_s,
+                        options.offset_s);
   if (r.matches.empty())
     throw InputError(est.path, "zero associated pairs with ground truth " + gt.path + " within " +
                                    FormatDouble17(options.max_difference_s) +
@@ -98,10 +104,11 @@ RpeResult ComputeRpeTum(const TumTrajectory& gt, const TumTrajectory& est,
     RpePair p;
     p.est_0 = i;
     p.est_1 = j;
-    p.gt_0 = TumFindClosestIndex(stamps_gt, stamps_est[i]);
-    p.gt_1 = TumFindClosestIndex(stamps_gt, stamps_est[j]);
-    if (std::abs(stamps_gt[p.gt_0] - stamps_est[i]) > r.gt_max_time_difference_s ||
-        std::abs(stamps_gt[p.gt_1] - stamps_est[j]) > r.gt_max_time_difference_s)
+    const double t_0 = stamps_est[i] + options.offset_s, t_1 = stamps_est[j] + options.offset_s;
+    p.gt_0 = TumFindClosestIndex(stamps_gt, t_0);
+    p.gt_1 = TumFindClosestIndex(stamps_gt, t_1);
+    if (std::abs(stamps_gt[p.gt_0] - t_0) > r.gt_max_time_difference_s ||
+        std::abs(stamps_gt[p.gt_1] - t_1) > r.gt_max_time_difference_s)
       continue;
     const SE3 d_est = est.poses[i].T_wc.inverse() * est.poses[j].T_wc;
     const SE3 d_gt = gt.poses[p.gt_0].T_wc.inverse() * gt.poses[p.gt_1].T_wc;
@@ -119,6 +126,18 @@ RpeResult ComputeRpeTum(const TumTrajectory& gt, const TumTrajectory& est,
   r.trans_m = ComputeErrorStats(trans);
   r.rot_deg = ComputeErrorStats(rot_deg);
   return r;
+}
+
+void WriteRpePairs(const std::string& path, const TumTrajectory& gt, const TumTrajectory& est,
+                   const RpeResult& rpe) {
+  std::string text;
+  for (const RpePair& p : rpe.pairs) {
+    text += FormatDouble17(est.poses[p.est_0].stamp) + " " + FormatDouble17(est.poses[p.est_1].stamp) +
+            " " + FormatDouble17(gt.poses[p.gt_0].stamp) + " " +
+            FormatDouble17(gt.poses[p.gt_1].stamp) + " " + FormatDouble17(p.trans_m) + " " +
+            FormatDouble17(p.rot_rad) + "\n";
+  }
+  AtomicWriteFile(path, text);
 }
 
 }  // namespace dynref

@@ -15,6 +15,7 @@ struct AteOptions {
   AssociationKind association = AssociationKind::kTum;
   double max_difference_s = 0.02;
   AlignMode align = AlignMode::kSE3;
+  double offset_s = 0.0;  // added to the estimate's stamps (evaluate_ate.py --offset)
   void Check() const;  // InputError naming the bad field
 };
 
@@ -35,6 +36,8 @@ const char* DeltaUnitName(DeltaUnit unit);  // "s" / "f"
 struct RpeOptions {
   double delta = 1.0;  // TUM default: 1 s
   DeltaUnit unit = DeltaUnit::kSeconds;
+  double offset_s = 0.0;  // added to the estimate's stamps when looking up ground truth
+                          // (evaluate_rpe.py --offset); pair selection uses the raw stamps
   void Check() const;
 };
 
@@ -55,7 +58,8 @@ struct RpeResult {
 
 // evaluate_rpe.py --fixed_delta (`--rpe-mode tum`): for each estimate index i, j = closest index
 // (TUM's find_closest_index) to stamp_i + delta (or i + delta frames); dropped when j is the last
-// index; both ends matched to the closest ground-truth stamp, dropped when farther than 2 x the
+// index; both ends matched to the ground-truth stamp closest to stamp + offset, dropped when
+// farther than 2 x the
 // median ground-truth interval; E = ominus(ominus(est_1, est_0), ominus(gt_1, gt_0)) with
 // ominus(a, b) = a^-1 b, i.e. E = dEst * dGt^-1 where d = pose_0^-1 pose_1; trans = |t(E)|,
 // rot = acos(clamp((tr R(E) - 1) / 2)). TUM randomly keeps 10,000 pairs when it has more;
@@ -66,5 +70,10 @@ RpeResult ComputeRpeTum(const TumTrajectory& gt, const TumTrajectory& est, const
 // TUM's find_closest_index(L, t): binary search that remembers the closest visited element
 // (strictly smaller difference wins; an exact hit returns at once). Exposed for tests.
 size_t TumFindClosestIndex(const std::vector<double>& sorted, double t);
+
+// evaluate_rpe.py --save: one line per pair "stamp_est0 stamp_est1 stamp_gt0 stamp_gt1
+// trans_error rot_error" (m, rad; 17 significant digits), written atomically.
+void WriteRpePairs(const std::string& path, const TumTrajectory& gt, const TumTrajectory& est,
+                   const RpeResult& rpe);
 
 }  // namespace dynref

@@ -161,3 +161,35 @@ TEST_CASE("rpe: TUM find_closest_index") {
   // not strictly closer.
   CHECK(TumFindClosestIndex(L, 2.5) == 2);
 }
+
+TEST_CASE("ate and rpe: --offset undoes a constant stamp shift of the estimate") {
+  // Ground truth at 32 Hz on a moving trajectory; the estimate is every other gt pose with its
+  // stamp labelled 1/32 s late. Without an offset each estimate is compared with the gt pose one
+  // sample later (non-zero errors); offset = -1/32 s pairs it with the pose it was copied from.
+  const std::vector<StampedPose> gt = GroundTruth(96);
+  std::vector<StampedPose> est;
+  for (size_t i = 0; i + 1 < gt.size(); i += 2) {
+    est.push_back(gt[i]);
+    est.back().stamp = gt[i + 1].stamp;
+  }
+  const TumTrajectory g = Make("gt", gt), e = Make("est", est);
+  RpeOptions rpe;
+  rpe.delta = 1;
+  rpe.unit = DeltaUnit::kFrames;
+  AteOptions ate;
+  const RpeResult shifted = ComputeRpeTum(g, e, rpe);
+  const AteResult ate_shifted = ComputeAte(g, e, ate);
+  CHECK(shifted.rot_deg.max > 0.01);
+  CHECK(ate_shifted.stats.rmse > 1e-3);
+  rpe.offset_s = ate.offset_s = -1.0 / 32.0;
+  const RpeResult undone = ComputeRpeTum(g, e, rpe);
+  const AteResult ate_undone = ComputeAte(g, e, ate);
+  REQUIRE(undone.pairs.size() == shifted.pairs.size());  // pair selection ignores the offset
+  for (const RpePair& p : undone.pairs) CHECK(p.gt_0 == 2 * p.est_0);
+  CHECK(undone.trans_m.max < 1e-12);
+  CHECK(undone.rot_deg.max < 1e-5);  // acos near 1: ~1e-8 rad of rounding
+  CHECK(ate_undone.matches.size() == est.size());
+  CHECK(ate_undone.stats.rmse < 1e-9);
+  rpe.offset_s = std::nan("");
+  CHECK_THROWS_AS(ComputeRpeTum(g, e, rpe), InputError);
+}

@@ -76,3 +76,26 @@ TEST_CASE("eval cli: --json is written atomically and runs are byte-identical") 
   CHECK(std::system(("ls " + Quote(d) + " | grep -q tmp").c_str()) != 0);
 }
 
+
+TEST_CASE("eval cli: --offset and --save-rpe (evaluate_rpe.py --offset / --save)") {
+  const std::string d = dynref::test::ScratchDir("eval_cli_offset");
+  const std::string gt = WriteText(d + "/gt.txt", kTraj);
+  // The estimate repeats the gt poses with stamps 1/32 s late; --offset -0.03125 undoes that.
+  const std::string est = WriteText(d + "/est.txt",
+                                    "1.03125 0 0 0 0 0 0 1\n1.0625 0.1 0 0 0 0 0 1\n"
+                                    "1.09375 0.2 0 0 0 0 0 1\n1.125 0.3 0.01 0 0 0 0 1\n");
+  const std::string pairs = d + "/rpe.txt";
+  const auto r = RunDynref("eval --gt " + Quote(gt) + " --est " + Quote(est) +
+                           " --delta 1 --delta-unit f --offset -0.03125 --save-rpe " + Quote(pairs));
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.output.find("offset -0.03125 s") != std::string::npos);
+  CHECK(r.output.find("translational [m]  rmse 0.000000  mean") != std::string::npos);
+  // Pairs (0,1) and (1,2): the pair ending at the last estimate is dropped as in the TUM tool.
+  const std::string saved = dynref::test::ReadFileBytes(pairs);
+  CHECK(saved == "1.03125 1.0625 1 1.03125 0 0\n1.0625 1.09375 1.03125 1.0625 0 0\n");
+  const auto no_offset = RunDynref("eval --gt " + Quote(gt) + " --est " + Quote(est) +
+                                   " --delta 1 --delta-unit f");
+  REQUIRE(no_offset.exit_code == 0);
+  CHECK(no_offset.output.find("offset 0 s") != std::string::npos);
+  CHECK(no_offset.output.find("translational [m]  rmse 0.000000  mean") == std::string::npos);
+}
