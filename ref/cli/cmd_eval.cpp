@@ -49,6 +49,7 @@ int RunEval(const EvalArgs& a) {
   rpe_opt.delta = a.delta;
   rpe_opt.unit = a.delta_unit == "f" ? DeltaUnit::kFrames : DeltaUnit::kSeconds;
   rpe_opt.offset_s = a.offset;
+  rpe_opt.mode = a.rpe_mode == "interp" ? RpeMode::kInterp : RpeMode::kTum;
   rpe_opt.Check();
 
   // TUM's tools read files into a dict (the later of two equal stamps wins); evo keeps every
@@ -64,7 +65,8 @@ int RunEval(const EvalArgs& a) {
   const TumTrajectory est_ate = evo ? ReadTumTrajectory(a.est, evo_read) : est;
 
   const AteResult ate = ComputeAte(gt_ate, est_ate, ate_opt);
-  const RpeResult rpe = ComputeRpeTum(gt, est, rpe_opt);
+  const RpeResult rpe = ComputeRpe(gt, est, rpe_opt);
+  const bool interp = rpe_opt.mode == RpeMode::kInterp;
 
   const std::string assoc_desc =
       evo ? "evo (nearest neighbour from the shorter trajectory, |dt| <= max-diff, not one-to-one)"
@@ -92,17 +94,22 @@ int RunEval(const EvalArgs& a) {
     << "\n"
     << "ATE (absolute trajectory error, translation), " << ate.matches.size() << " pairs\n"
     << Row("ate", ate.stats, "m", true) << "\n"
-    << "RPE (--rpe-mode tum = evaluate_rpe.py --fixed_delta), delta " << FormatDouble17(a.delta)
-    << " " << (rpe_opt.unit == DeltaUnit::kSeconds ? "s" : "frames")
+    << "RPE (--rpe-mode " << a.rpe_mode
+    << (interp ? ": evaluate_rpe.py --fixed_delta pairs incl. the one ending at the last pose, "
+                 "ground truth interpolated"
+               : " = evaluate_rpe.py --fixed_delta")
+    << "), delta " << FormatDouble17(a.delta) << " "
+    << (rpe_opt.unit == DeltaUnit::kSeconds ? "s" : "frames")
     << ", every pair (no random sub-sampling)\n"
     << "  pairs          " << rpe.pairs.size() << " used of " << rpe.candidate_pairs
-    << " candidates (dropped: ground truth farther than 2 x median gt interval = "
+    << " candidates (dropped: ground truth "
+    << (interp ? "missing or in a gap wider than" : "farther than") << " 2 x median gt interval = "
     << FormatFixed(rpe.gt_max_time_difference_s, 6) << " s)\n"
     << Row("translational", rpe.trans_m, "m", false) << "\n"
     << Row("rotational", rpe.rot_deg, "deg", false) << "\n";
   std::cout << o.str();
 
-  if (!a.save_rpe.empty()) WriteRpePairs(a.save_rpe, gt, est, rpe);
+  if (!a.save_rpe.empty()) WriteRpePairs(a.save_rpe, est, rpe);
   if (!a.json.empty()) {
     nlohmann::json j;
     j["tool"] = "dynref eval";
@@ -168,8 +175,10 @@ void RegisterEvalCommand(CLI::App& root, CommandList& out) {
       ->check(CLI::IsMember({"s", "f"}))
       ->capture_default_str();
   app->add_option("--rpe-mode", args->rpe_mode,
-                  "RPE pair selection: tum = evaluate_rpe.py --fixed_delta, every pair")
-      ->check(CLI::IsMember({"tum"}))
+                  "RPE pairs: tum = evaluate_rpe.py --fixed_delta, every pair; interp = the same "
+                  "pairs plus the one ending at the last pose, ground truth interpolated at the "
+                  "stamps (lerp + slerp)")
+      ->check(CLI::IsMember({"tum", "interp"}))
       ->capture_default_str();
   app->add_option("--save-rpe", args->save_rpe,
                   "Write every RPE pair as evaluate_rpe.py --save does: stamp_est0 stamp_est1 "

@@ -19,6 +19,8 @@ void AteOptions::Check() const {
 
 const char* DeltaUnitName(DeltaUnit unit) { return unit == DeltaUnit::kSeconds ? "s" : "f"; }
 
+const char* RpeModeName(RpeMode mode) { return mode == RpeMode::kTum ? "tum" : "interp"; }
+
 void RpeOptions::Check() const {
   if (!(delta > 0) || !std::isfinite(delta))
     throw InputError("--delta", "must be a finite number > 0, got " + FormatDouble17(delta));
@@ -71,7 +73,34 @@ size_t TumFindClosestIndex(const std::vector<double>& L, double t) {
   return best;
 }
 
-RpeResult ComputeRpeTum(const TumTrajectory& gt, const TumTrajectory& est,
+namespace {
+
+// Ground truth at stamp t: linear position and slerp rotation between the bracketing poses
+// gt[k-1], gt[k] (k returned). False outside the ground truth or inside a gap (bracket wider
+// than max_gap_s).
+bool InterpolateGroundTruth(const TumTrajectory& gt, const std::vector<double>& stamps, double t,
+                            double max_gap_s, size_t* k_out, SE3* pose) {
+  const size_t k = std::lower_bound(stamps.begin(), stamps.end(), t) - stamps.begin();
+  if (k == stamps.size()) return false;
+  if (stamps[k] == t) {
+    *k_out = k;
+    *pose = gt.poses[k].T_wc;
+    return true;
+  }
+  if (k == 0 || stamps[k] - stamps[k - 1] > max_gap_s) return false;
+  const double s = (t - stamps[k - 1]) / (stamps[k] - stamps[k - 1]);
+  const SE3& a = gt.poses[k - 1].T_wc;
+  const SE3& b = gt.poses[k].T_wc;
+  const Eigen::Quaterniond q =
+      Eigen::Quaterniond(a.linear()).slerp(s, Eigen::Quaterniond(b.linear())).normalized();
+  *k_out = k;
+  *pose = MakeSE3(a.translation() + s * (b.translation() - a.translation()), q);
+  return true;
+}
+
+}  // namespace
+
+RpeResult ComputeRpe(const TumTrajectory& gt, const TumTrajectory& est,
                         const RpeOptions& options) {
   options.Check();
   const std::vector<double> stamps_gt = gt.Stamps(), stamps_est = est.Stamps();
@@ -96,22 +125,38 @@ RpeResult ComputeRpeTum(const TumTrajectory& gt, const TumTrajectory& est,
     index_est.push_back(options.unit == DeltaUnit::kSeconds ? stamps_est[i]
                                                             : static_cast<double>(i));
   const size_t last = stamps_est.size() - 1;
+  const bool interp = options.mode == RpeMode::kInterp;
   std::vector<double> trans, rot_deg;
   for (size_t i = 0; i < stamps_est.size(); ++i) {
     const size_t j = TumFindClosestIndex(index_est, index_est[i] + options.delta);
-    if (j == last) continue;
+    if (j == last && !interp) continue;
+    if (interp && j == i) continue;  // the last pose paired with itself
     ++r.candidate_pairs;
     RpePair p;
     p.est_0 = i;
     p.est_1 = j;
-    const double t_0 = stamps_est[i] + options.offset_s, t_1 = stamps_est[j] + options.offset_s;
-    p.gt_0 = TumFindClosestIndex(stamps_gt, t_0);
-    p.gt_1 = TumFindClosestIndex(stamps_gt, t_1);
-    if (std::abs(stamps_gt[p.gt_0] - t_0) > r.gt_max_time_difference_s ||
-        std::abs(stamps_gt[p.gt_1] - t_1) > r.gt_max_time_difference_s)
-      continue;
+    p.gt_stamp_0 = stamps_est[i] + options.offset_s;
+    p.gt_stamp_1 = stamps_est[j] + options.offset_s;
+    SE3 gt_0, gt_1;
+    if (interp) {
+      if (!InterpolateGroundTruth(gt, stamps_gt, p.gt_stamp_0, r.gt_max_time_difference_s, &p.gt_0,
+                                  &gt_0) ||
+          !InterpolateGroundTruth(gt, stamps_gt, p.gt_stamp_1, r.gt_max_time_difference_s, &p.gt_1,
+                                  &gt_1))
+        continue;
+    } else {
+      p.gt_0 = TumFindClosestIndex(stamps_gt, p.gt_stamp_0);
+      p.gt_1 = TumFindClosestIndex(stamps_gt, p.gt_stamp_1);
+      if (std::abs(stamps_gt[p.gt_0] - p.gt_stamp_0) > r.gt_max_time_difference_s ||
+          std::abs(stamps_gt[p.gt_1] - p.gt_stamp_1) > r.gt_max_time_difference_s)
+        continue;
+      p.gt_stamp_0 = stamps_gt[p.gt_0];
+      p.gt_stamp_1 = stamps_gt[p.gt_1];
+      gt_0 = gt.poses[p.gt_0].T_wc;
+      gt_1 = gt.poses[p.gt_1].T_wc;
+    }
     const SE3 d_est = est.poses[i].T_wc.inverse() * est.poses[j].T_wc;
-    const SE3 d_gt = gt.poses[p.gt_0].T_wc.inverse() * gt.poses[p.gt_1].T_wc;
+    const SE3 d_gt = gt_0.inverse() * gt_1;
     const SE3 error = d_est * d_gt.inverse();
     p.trans_m = error.translation().norm();
     p.rot_rad = RotationAngleRad(error.linear());
@@ -128,14 +173,12 @@ RpeResult ComputeRpeTum(const TumTrajectory& gt, const TumTrajectory& est,
   return r;
 }
 
-void WriteRpePairs(const std::string& path, const TumTrajectory& gt, const TumTrajectory& est,
-                   const RpeResult& rpe) {
+void WriteRpePairs(const std::string& path, const TumTrajectory& est, const RpeResult& rpe) {
   std::string text;
   for (const RpePair& p : rpe.pairs) {
     text += FormatDouble17(est.poses[p.est_0].stamp) + " " + FormatDouble17(est.poses[p.est_1].stamp) +
-            " " + FormatDouble17(gt.poses[p.gt_0].stamp) + " " +
-            FormatDouble17(gt.poses[p.gt_1].stamp) + " " + FormatDouble17(p.trans_m) + " " +
-            FormatDouble17(p.rot_rad) + "\n";
+            " " + FormatDouble17(p.gt_stamp_0) + " " + FormatDouble17(p.gt_stamp_1) + " " +
+            FormatDouble17(p.trans_m) + " " + FormatDouble17(p.rot_rad) + "\n";
   }
   AtomicWriteFile(path, text);
 }

@@ -33,17 +33,30 @@ AteResult ComputeAte(const TumTrajectory& gt, const TumTrajectory& est, const At
 enum class DeltaUnit { kSeconds, kFrames };
 const char* DeltaUnitName(DeltaUnit unit);  // "s" / "f"
 
+// RPE pair selection and ground-truth lookup.
+//   kTum:    evaluate_rpe.py --fixed_delta (closest ground-truth stamp; the pair ending at the last
+//            estimate is dropped).
+//   kInterp: the same pairs but the one ending at the last estimate is kept, and ground truth is
+//            interpolated at the stamp (+ offset): linear position, slerp rotation between the two
+//            bracketing ground-truth poses. A pair is dropped when a stamp falls outside the
+//            ground truth or between two ground-truth poses more than 2 x the median
+//            ground-truth interval apart (a gap).
+enum class RpeMode { kTum, kInterp };
+const char* RpeModeName(RpeMode mode);  // "tum" / "interp"
+
 struct RpeOptions {
   double delta = 1.0;  // TUM default: 1 s
   DeltaUnit unit = DeltaUnit::kSeconds;
   double offset_s = 0.0;  // added to the estimate's stamps when looking up ground truth
                           // (evaluate_rpe.py --offset); pair selection uses the raw stamps
+  RpeMode mode = RpeMode::kTum;
   void Check() const;
 };
 
 struct RpePair {
-  size_t est_0 = 0, est_1 = 0;  // estimate indices
-  size_t gt_0 = 0, gt_1 = 0;    // closest ground-truth indices
+  size_t est_0 = 0, est_1 = 0;            // estimate indices
+  size_t gt_0 = 0, gt_1 = 0;              // closest (kTum) / bracketing-later (kInterp) gt index
+  double gt_stamp_0 = 0, gt_stamp_1 = 0;  // where ground truth was taken
   double trans_m = 0, rot_rad = 0;
 };
 
@@ -65,7 +78,7 @@ struct RpeResult {
 // rot = acos(clamp((tr R(E) - 1) / 2)). TUM randomly keeps 10,000 pairs when it has more;
 // dynref always uses every pair. Duplicate stamps must already be collapsed (kKeepLast).
 // InputError for fewer than 2 resulting pairs (as the tool).
-RpeResult ComputeRpeTum(const TumTrajectory& gt, const TumTrajectory& est, const RpeOptions& options);
+RpeResult ComputeRpe(const TumTrajectory& gt, const TumTrajectory& est, const RpeOptions& options);
 
 // TUM's find_closest_index(L, t): binary search that remembers the closest visited element
 // (strictly smaller difference wins; an exact hit returns at once). Exposed for tests.
@@ -73,7 +86,6 @@ size_t TumFindClosestIndex(const std::vector<double>& sorted, double t);
 
 // evaluate_rpe.py --save: one line per pair "stamp_est0 stamp_est1 stamp_gt0 stamp_gt1
 // trans_error rot_error" (m, rad; 17 significant digits), written atomically.
-void WriteRpePairs(const std::string& path, const TumTrajectory& gt, const TumTrajectory& est,
-                   const RpeResult& rpe);
+void WriteRpePairs(const std::string& path, const TumTrajectory& est, const RpeResult& rpe);
 
 }  // namespace dynref

@@ -105,7 +105,7 @@ TEST_CASE("rpe: known translation and rotation noise") {
   RpeOptions opt;
   opt.delta = 1;
   opt.unit = DeltaUnit::kFrames;
-  const RpeResult r = ComputeRpeTum(Make("gt", gt), Make("est", est), opt);
+  const RpeResult r = ComputeRpe(Make("gt", gt), Make("est", est), opt);
   REQUIRE(r.pairs.size() == size_t(n - 2));  // j == last index is dropped, as the TUM tool
   std::vector<double> want_t;
   for (int i = 0; i + 2 < n; ++i) want_t.push_back((noise[i + 1] - noise[i]).norm());
@@ -118,7 +118,7 @@ TEST_CASE("rpe: known translation and rotation noise") {
 
   std::vector<StampedPose> gt0(n);
   for (int i = 0; i < n; ++i) gt0[i].stamp = gt[i].stamp;
-  const RpeResult rr = ComputeRpeTum(Make("gt", gt0), Make("est", rot_est), opt);
+  const RpeResult rr = ComputeRpe(Make("gt", gt0), Make("est", rot_est), opt);
   for (size_t k = 0; k < rr.pairs.size(); ++k) {
     CHECK(rr.pairs[k].rot_rad == Approx(std::abs(theta[k + 1] - theta[k])).margin(1e-9));
     CHECK(rr.pairs[k].trans_m < 1e-12);
@@ -129,7 +129,7 @@ TEST_CASE("rpe: known translation and rotation noise") {
   for (auto& p : moved) p.T_wc = G * p.T_wc;
   RpeOptions sec;
   sec.delta = 0.25;
-  const RpeResult zero = ComputeRpeTum(Make("gt", gt), Make("est", moved), sec);
+  const RpeResult zero = ComputeRpe(Make("gt", gt), Make("est", moved), sec);
   CHECK(zero.pairs.size() == size_t(n - 8 - 1));
   CHECK(zero.trans_m.max < 1e-12);
   CHECK(zero.rot_deg.max < 1e-6);
@@ -138,7 +138,7 @@ TEST_CASE("rpe: known translation and rotation noise") {
 TEST_CASE("rpe: pairs whose ground truth is too far are dropped") {
   std::vector<StampedPose> gt = GroundTruth(64), est = GroundTruth(64);
   gt.erase(gt.begin() + 20, gt.begin() + 30);  // gt gap of 10 frames
-  const RpeResult r = ComputeRpeTum(Make("gt", gt), Make("est", est), {1.0 / 32.0 * 2, DeltaUnit::kSeconds});
+  const RpeResult r = ComputeRpe(Make("gt", gt), Make("est", est), {1.0 / 32.0 * 2, DeltaUnit::kSeconds});
   CHECK(r.gt_median_interval_s == 1.0 / 32.0);
   CHECK(r.candidate_pairs == 64 - 3);  // j = i + 2; i = 61, 62, 63 reach the last index
   // Estimate stamps 22..27 are more than 2/32 s from every gt stamp (gt 20..29 removed).
@@ -177,12 +177,12 @@ TEST_CASE("ate and rpe: --offset undoes a constant stamp shift of the estimate")
   rpe.delta = 1;
   rpe.unit = DeltaUnit::kFrames;
   AteOptions ate;
-  const RpeResult shifted = ComputeRpeTum(g, e, rpe);
+  const RpeResult shifted = ComputeRpe(g, e, rpe);
   const AteResult ate_shifted = ComputeAte(g, e, ate);
   CHECK(shifted.rot_deg.max > 0.01);
   CHECK(ate_shifted.stats.rmse > 1e-3);
   rpe.offset_s = ate.offset_s = -1.0 / 32.0;
-  const RpeResult undone = ComputeRpeTum(g, e, rpe);
+  const RpeResult undone = ComputeRpe(g, e, rpe);
   const AteResult ate_undone = ComputeAte(g, e, ate);
   REQUIRE(undone.pairs.size() == shifted.pairs.size());  // pair selection ignores the offset
   for (const RpePair& p : undone.pairs) CHECK(p.gt_0 == 2 * p.est_0);
@@ -191,5 +191,48 @@ TEST_CASE("ate and rpe: --offset undoes a constant stamp shift of the estimate")
   CHECK(ate_undone.matches.size() == est.size());
   CHECK(ate_undone.stats.rmse < 1e-9);
   rpe.offset_s = std::nan("");
-  CHECK_THROWS_AS(ComputeRpeTum(g, e, rpe), InputError);
+  CHECK_THROWS_AS(ComputeRpe(g, e, rpe), InputError);
+}
+
+TEST_CASE("rpe interp: ground truth interpolated at the stamps, last pair kept, gaps dropped") {
+  // Constant velocity and constant angular velocity about a fixed axis: lerp and slerp between
+  // any two samples are exact, so estimates sampled between ground-truth stamps score zero.
+  auto pose_at = [](double t) {
+    StampedPose p;
+    p.stamp = t;
+    p.T_wc = MakeSE3(Eigen::Vector3d(0.5 * t, -0.2 * t, 0.1 * t),
+                     Eigen::Quaterniond(Eigen::AngleAxisd(0.8 * t, Eigen::Vector3d(1, 2, 3).normalized())));
+    return p;
+  };
+  std::vector<StampedPose> gt, est;
+  for (int i = 0; i < 200; ++i) gt.push_back(pose_at(i / 100.0));
+  for (int i = 0; i < 40; ++i) est.push_back(pose_at(0.013 + i / 30.0));
+  RpeOptions opt;
+  opt.delta = 1;
+  opt.unit = DeltaUnit::kFrames;
+  opt.mode = RpeMode::kInterp;
+  const RpeResult r = ComputeRpe(Make("gt", gt), Make("est", est), opt);
+  CHECK(RpeModeName(opt.mode) == std::string("interp"));
+  REQUIRE(r.pairs.size() == est.size() - 1);  // the pair ending at the last pose is kept
+  CHECK(r.pairs.back().est_1 == est.size() - 1);
+  CHECK(r.pairs[3].gt_stamp_0 == est[3].stamp);
+  CHECK(r.trans_m.max < 1e-12);
+  CHECK(r.rot_deg.max < 1e-5);
+  opt.mode = RpeMode::kTum;  // nearest ground truth: up to 5 ms away, so non-zero errors
+  const RpeResult tum = ComputeRpe(Make("gt", gt), Make("est", est), opt);
+  CHECK(tum.pairs.size() == est.size() - 2);
+  CHECK(tum.trans_m.max > 1e-4);
+  // A ground-truth gap of 60 ms (> 2 x 10 ms) drops the pairs with a stamp inside it.
+  std::vector<StampedPose> gapped;
+  for (const StampedPose& p : gt)
+    if (p.stamp < 0.30 || p.stamp > 0.355) gapped.push_back(p);
+  opt.mode = RpeMode::kInterp;
+  const RpeResult g = ComputeRpe(Make("gt", gapped), Make("est", est), opt);
+  CHECK(g.candidate_pairs == est.size() - 1);
+  for (const RpePair& p : g.pairs) {
+    CHECK(!(p.gt_stamp_0 > 0.29 && p.gt_stamp_0 < 0.36));
+    CHECK(!(p.gt_stamp_1 > 0.29 && p.gt_stamp_1 < 0.36));
+  }
+  CHECK(g.pairs.size() == est.size() - 1 - 3);  // est 9 (0.313) and 10 (0.346) are in the gap
+  CHECK(g.trans_m.max < 1e-12);
 }

@@ -31,7 +31,7 @@ TEST_CASE("figures: TUM evaluate_ate.py (greedy association, SE(3))") {
 TEST_CASE("figures: TUM evaluate_rpe.py --fixed_delta --delta 1 --delta_unit s") {
   const TumTrajectory gt = ReadTumTrajectory(test::SourcePath(kGt));
   const TumTrajectory est = ReadTumTrajectory(test::SourcePath(kEst));
-  const RpeResult r = ComputeRpeTum(gt, est, {});
+  const RpeResult r = ComputeRpe(gt, est, {});
   CHECK(r.pairs.size() == 1998);
   CHECK(F(r.trans_m.rmse) == "0.007161");
   CHECK(F(r.trans_m.mean) == "0.006502");
