@@ -70,6 +70,20 @@ class BAProblem {
     for (size_t p = 0; p < points.size(); ++p) {
       for (int c = 0; c < 3; ++c) point_params_[p * 3 + c] = points[p].X_w[c];
     }
+    // One cost functor per edge, built once and shared by both phases' problems (as in
+    // OptimizePose): a Problem that owns its functors needs one allocation and one std::map
+    // ref-count entry per residual per phase; sharing saves 6-9 % of a call, bit-identical
+    // (ref/optim/README.md).
+    costs_.resize(edges.size());
+    for (size_t i = 0; i < edges.size(); ++i) {
+      const BAEdge& e = edges[i];
+      const double s = std::sqrt(e.info);
+      if (e.stereo) {
+        costs_[i] = std::make_unique<BACost<3>>(K, e.obs, s);
+      } else {
+        costs_[i] = std::make_unique<BACost<2>>(K, e.obs, s);
+      }
+    }
   }
 
   // Runs `iterations` LM iterations over the edges with active[i] != 0.
@@ -78,6 +92,7 @@ class BAProblem {
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+    problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     ceres::Problem problem(problem_options);
     ceres::ParameterBlockOrdering* ordering = new ceres::ParameterBlockOrdering;
     std::vector<uint8_t> pose_added(keyframes_.size(), 0);
@@ -99,14 +114,8 @@ class BAProblem {
         ordering->AddElementToGroup(point, 0);  // points eliminated first (Schur complement)
         point_added[e.point] = 1;
       }
-      const double s = std::sqrt(e.info);
-      if (e.stereo) {
-        problem.AddResidualBlock(new BACost<3>(K_, e.obs, s), robust ? &huber_stereo_ : nullptr,
-                                 pose, point);
-      } else {
-        problem.AddResidualBlock(new BACost<2>(K_, e.obs, s), robust ? &huber_mono_ : nullptr, pose,
-                                 point);
-      }
+      ceres::LossFunction* loss = e.stereo ? &huber_stereo_ : &huber_mono_;
+      problem.AddResidualBlock(costs_[i].get(), robust ? loss : nullptr, pose, point);
       ++added;
     }
     if (added == 0) {
@@ -152,6 +161,7 @@ class BAProblem {
   PoseManifold manifold_;
   ceres::HuberLoss huber_mono_;
   ceres::HuberLoss huber_stereo_;
+  std::vector<std::unique_ptr<ceres::CostFunction>> costs_;  // per edge, both phases
 };
 
 }  // namespace
