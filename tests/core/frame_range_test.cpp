@@ -8,7 +8,7 @@
 using dynref::FrameRange;
 using dynref::ParseFrameRange;
 
-TEST_CASE("frame_range: A, A-B and A- parse; LastIn resolves the open end") {
+TEST_CASE("frame_range: A, A-B and A- parse, LastIn resolves the open end") {
   const FrameRange one = ParseFrameRange("3");
   CHECK(one.first == 3);
   CHECK(one.last == 3);

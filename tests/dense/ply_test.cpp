@@ -29,7 +29,7 @@ void CheckSame(const PointCloud& a, const PointCloud& b) {
 }
 }  // namespace
 
-TEST_CASE("dense ply: binary and ASCII round-trip exactly; header is standard") {
+TEST_CASE("dense ply: binary and ASCII round-trip exactly, header is standard") {
   const std::string dir = dynref::test::ScratchDir("dense_ply");
   WritePly(dir + "/b.ply", Sample(), PlyFormat::kBinaryLittleEndian, "dynref test\nsecond line");
   WritePly(dir + "/a.ply", Sample(), PlyFormat::kAscii);

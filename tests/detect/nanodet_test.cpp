@@ -68,7 +68,7 @@ void CheckPersonWithMask(const FrameDetections& f, const HandBox& h, cv::Point o
 
 }  // namespace
 
-TEST_CASE("nanodet: one person on person.jpg, with a mask on the person; dog and horse box-only") {
+TEST_CASE("nanodet: one person on person.jpg, with a mask on the person, dog and horse box-only") {
   const cv::Mat im = Photo("person.jpg");
   const FrameDetections f = Nanodet().Detect(im, "person");
   int persons = 0;
@@ -117,7 +117,7 @@ TEST_CASE("nanodet: no person on horses.jpg") {
   CHECK(f.instance_ids.empty());  // nothing masked
 }
 
-TEST_CASE("nanodet: repeated detection is identical; --no-masks gives the same boxes") {
+TEST_CASE("nanodet: repeated detection is identical, --no-masks gives the same boxes") {
   const cv::Mat im = Photo("person.jpg");
   const FrameDetections a = Nanodet().Detect(im, "person");
   const FrameDetections b = Nanodet().Detect(im, "person");

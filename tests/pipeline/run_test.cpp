@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
 
 #include "core/se3.h"
 #include "eval/trajectory_eval.h"
@@ -153,4 +154,76 @@ TEST_CASE("run: per-feature weights reach pose optimisation and local BA") {
   REQUIRE(RunSequence(oa).exit_code == 0);
   REQUIRE(RunSequence(ob).exit_code == 0);
   CHECK(test::ReadFileBytes(a + "/trajectory.txt") != test::ReadFileBytes(b + "/trajectory.txt"));
+}
+
+namespace {
+
+// A copy of the bundled fr1 frames that a test may damage (in scratch dir `name`_seq).
+std::string CopyOfRealSequence(const std::string& name) {
+  const std::string dir = test::ScratchDir(name + "_seq") + "/seq";
+  std::filesystem::copy(test::SourcePath(kSeq), dir, std::filesystem::copy_options::recursive);
+  return dir;
+}
+
+std::vector<std::string> ListedImages(const std::string& list_file) {
+  std::vector<std::string> paths;
+  std::ifstream in(list_file);
+  std::string stamp, path;
+  while (in >> stamp) {
+    if (stamp[0] == '#') {
+      std::getline(in, path);
+      continue;
+    }
+    in >> path;
+    paths.push_back(path);
+  }
+  return paths;
+}
+
+}  // namespace
+
+TEST_CASE("run: an unreadable frame mid-sequence ends the run cleanly, naming the file") {
+  const std::string seq = CopyOfRealSequence("run_unreadable");
+  const std::vector<std::string> rgb = ListedImages(seq + "/rgb.txt");
+  REQUIRE(rgb.size() == 9);
+  test::WriteText(seq + "/" + rgb[5], "not a png");
+  const std::string out = test::ScratchDir("run_unreadable") + "/run";
+  REQUIRE(std::filesystem::exists(seq + "/rgb.txt"));
+  const auto r = test::RunDynref("run --camera tum_fr1 --sequence " + test::Quote(seq) + " --out " +
+                                 test::Quote(out));
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("rgb.txt") != std::string::npos);  // list file and line of the frame
+  CHECK(r.output.find(rgb[5]) != std::string::npos);
+  const nlohmann::json j = ReadJson(out + "/run.json");
+  CHECK(j["end_state"].get<std::string>().rfind("error: frame 5", 0) == 0);
+  CHECK(j["frames_processed"] == 5);
+  // What was written is complete up to the bad frame: frames 0-4 have poses.
+  CHECK(ReadTumTrajectory(out + "/trajectory.txt").poses.size() == 5);
+  CHECK(std::system(("ls " + test::Quote(out) + " | grep -q tmp").c_str()) != 0);
+}
+
+TEST_CASE("run: zero depth in every frame is never initialised, one zero-depth frame is survived") {
+  const std::string seq = CopyOfRealSequence("run_zero_depth");
+  const std::vector<std::string> depth = ListedImages(seq + "/depth.txt");
+  REQUIRE(depth.size() == 9);
+  const cv::Mat zero(480, 640, CV_16UC1, cv::Scalar(0));
+  REQUIRE(cv::imwrite(seq + "/" + depth[4], zero));
+  RunOptions o = Options(test::ScratchDir("run_zero_depth") + "/one");
+  o.sequence = seq;
+  o.camera = "tum_fr1";
+  REQUIRE(std::filesystem::exists(seq + "/depth.txt"));
+  const RunResult one = RunSequence(o);
+  CHECK(one.exit_code == 0);
+  CHECK(one.frames == 9);
+  CHECK(one.tracked + one.lost == 9);  // every frame has a pose or a line in lost.txt
+  CHECK(ReadJson(o.out_dir + "/run.json")["frames_zero_depth"] == 1);
+
+  for (const std::string& d : depth) REQUIRE(cv::imwrite(seq + "/" + d, zero));
+  o.out_dir = test::ScratchDir("run_zero_depth") + "/all";
+  const RunResult all = RunSequence(o);
+  CHECK(all.exit_code == 2);
+  CHECK(all.tracked == 0);
+  CHECK(all.end_state == "never-initialised: depth is zero in every frame");
+  const std::string lost = test::ReadFileBytes(o.out_dir + "/lost.txt");
+  CHECK(std::count(lost.begin(), lost.end(), '\n') == 10);  // header + 9 frames
 }

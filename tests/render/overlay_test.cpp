@@ -48,7 +48,7 @@ TEST_CASE("golden overlay of a synthetic frame with GT labels matches golden/ove
   CHECK(diff <= 640 * 480 / 1000);
 }
 
-TEST_CASE("overlay pixels are identical across two renders; montage tiles the frames") {
+TEST_CASE("overlay pixels are identical across two renders, montage tiles the frames") {
   const std::string dir = test::ScratchDir("render_determinism");
   const test::SyntheticRun run = test::MakeSyntheticRun(dir);
   render::OverlayOptions o;

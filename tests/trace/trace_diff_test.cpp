@@ -30,7 +30,7 @@ TEST_CASE("diff of identical traces exits 0") {
   CHECK(r.output.find("MATCH") != std::string::npos);
 }
 
-TEST_CASE("a float perturbed beyond tolerance is the first divergence; within tolerance passes") {
+TEST_CASE("a float perturbed beyond tolerance is the first divergence, within tolerance passes") {
   const std::string dir = dynref::test::ScratchDir("diff_perturbed");
   SampleTweak t;
   t.after_delta = 1e-6;

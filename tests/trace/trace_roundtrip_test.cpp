@@ -81,7 +81,7 @@ TEST_CASE("two writes of the same records give byte-identical files and dumps") 
   CHECK(a.output.size() > 1000);
 }
 
-TEST_CASE("level off writes nothing; frames level keeps only frame records") {
+TEST_CASE("level off writes nothing, frames level keeps only frame records") {
   const std::string dir = dynref::test::ScratchDir("trace_levels");
   {
     TraceWriter w(dir + "/off.dtr", Level::kOff, {});
