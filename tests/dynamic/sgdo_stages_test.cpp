@@ -63,6 +63,22 @@ ParamMap Params(const std::string& stage, std::map<std::string, Param> kv) {
   return m;
 }
 
+std::map<std::string, Param> CoarseParams(const std::string& combination) {
+  return {{"combination", P(combination)}, {"th_epi_px", P("1.0")}, {"vote_ratio", P("0.5")},
+          {"lk_window_px", P("21")}, {"lk_max_level", P("3")}, {"lk_max_iterations", P("30")},
+          {"lk_epsilon", P("0.01")}, {"border_px", P("5")}, {"patch_sad_max", P("2120")},
+          {"ransac_threshold_px", P("1.0")}, {"ransac_confidence", P("0.99")},
+          {"ransac_max_iterations", P("1000")}, {"ransac_seed", P("0")}};
+}
+
+std::map<std::string, Param> DenseMapParams() {
+  return {{"keyframe_leaf_m", P("0.05")}, {"global_leaf_m", P("0.05")},
+          {"filter_every_keyframes", P("10")}, {"sor_k", P("8")}, {"sor_std_mult", P("1.0")},
+          {"min_depth_m", P("0.1")}, {"max_depth_m", P("6")}, {"pixel_stride", P("1")},
+          {"colour_by_class", P("true")}, {"output", P("dense_map.ply")},
+          {"ply_format", P("binary")}};
+}
+
 void SetupFrame(Frame& f, int index, const cv::Mat& grey, const cv::Mat& depth,
                 const FrameDetections* det) {
   f.index = index;
@@ -111,12 +127,7 @@ TEST_CASE("sgdo stages: person moving off the epipolar lines is rejected, backgr
   auto mask = (*registry.Find("sgdo.mask"))(Params("sgdo.mask",
       {{"dynamic_classes", classes}, {"min_confidence", P("0.25")}, {"dilation_kernel_px", P("5")},
        {"reject_in_mask", P("false")}}));
-  auto coarse = (*registry.Find("sgdo.coarse"))(Params("sgdo.coarse",
-      {{"combination", P("per_point")}, {"th_epi_px", P("1.0")}, {"vote_ratio", P("0.5")},
-       {"lk_window_px", P("21")}, {"lk_max_level", P("3")}, {"lk_max_iterations", P("30")},
-       {"lk_epsilon", P("0.01")}, {"border_px", P("5")}, {"patch_sad_max", P("2120")},
-       {"ransac_threshold_px", P("1.0")}, {"ransac_confidence", P("0.99")},
-       {"ransac_max_iterations", P("1000")}, {"ransac_seed", P("0")}}));
+  auto coarse = (*registry.Find("sgdo.coarse"))(Params("sgdo.coarse", CoarseParams("per_point")));
   auto depth = (*registry.Find("sgdo.depth"))(Params("sgdo.depth",
       {{"eta", P("0.1")}, {"lambda", P("100")}, {"reject", P("true")}, {"weight", P("true")}}));
   CHECK(mask->hook() == Hook::kAfterExtraction);
@@ -161,6 +172,8 @@ TEST_CASE("sgdo stages: person moving off the epipolar lines is rejected, backgr
     }
   }
   INFO("person " << person_rejected << "/" << person << " background kept " << bg_kept << "/" << bg);
+  REQUIRE(person >= 20);  // the 9-px grid puts ~40 keypoints inside the person
+  REQUIRE(bg >= 200);
   CHECK(person_rejected == person);
   CHECK(bg_kept >= 0.95 * bg);
 
@@ -189,6 +202,23 @@ TEST_CASE("sgdo stages: configs are validated (unknown keys, bad values, missing
                       {{"eta", P("-1")}, {"lambda", P("100")}, {"reject", P("true")}, {"weight", P("true")}})),
                   InputError);
   CHECK_THROWS_AS((*registry.Find("sgdo.depth"))(Params("sgdo.depth", {{"eta", P("0.1")}})), InputError);
+
+  // Stages that read the mask refuse to run when sgdo.mask is not earlier in the list.
+  auto coarse = (*registry.Find("sgdo.coarse"))(Params("sgdo.coarse", CoarseParams("per_point")));
+  auto dense = (*registry.Find("sgdo.densemap"))(Params("sgdo.densemap", DenseMapParams()));
+  cv::Mat g0, d0;
+  Render(0, Texture(420, 240, 1), Texture(420, 240, 2), Texture(50, 100, 3), g0, d0);
+  Map map;
+  trace::TraceWriter tr("", trace::Level::kOff, trace::RunHeader{});
+  Frame f0, f1;
+  SetupFrame(f0, 0, g0, d0, nullptr);
+  SetupFrame(f1, 1, g0, d0, nullptr);
+  KeyFrame kf;
+  kf.frame = f0;
+  StageContext ctx{f1, &f0, &kf, map, TestCamera(), tr, &kf};
+  using Catch::Matchers::Contains;
+  CHECK_THROWS_WITH(coarse->Run(ctx), Contains("needs sgdo.mask"));
+  CHECK_THROWS_WITH(dense->Run(ctx), Contains("needs sgdo.mask"));
 }
 
 TEST_CASE("sgdo stages: dense map stage writes a PLY of the unmasked keyframe pixels") {
@@ -209,11 +239,7 @@ TEST_CASE("sgdo stages: dense map stage writes a PLY of the unmasked keyframe pi
   auto mask = (*registry.Find("sgdo.mask"))(Params("sgdo.mask",
       {{"dynamic_classes", classes}, {"min_confidence", P("0.25")}, {"dilation_kernel_px", P("1")},
        {"reject_in_mask", P("true")}}));
-  auto dense = (*registry.Find("sgdo.densemap"))(Params("sgdo.densemap",
-      {{"keyframe_leaf_m", P("0.05")}, {"global_leaf_m", P("0.05")}, {"filter_every_keyframes", P("10")},
-       {"sor_k", P("8")}, {"sor_std_mult", P("1.0")}, {"min_depth_m", P("0.1")}, {"max_depth_m", P("6")},
-       {"pixel_stride", P("1")}, {"colour_by_class", P("true")}, {"output", P("dense_map.ply")},
-       {"ply_format", P("binary")}}));
+  auto dense = (*registry.Find("sgdo.densemap"))(Params("sgdo.densemap", DenseMapParams()));
   Map map;
   trace::TraceWriter tr("", trace::Level::kOff, trace::RunHeader{});
   Frame f;
@@ -238,4 +264,6 @@ TEST_CASE("sgdo reproduce: bad arguments exit 2 without running anything") {
   INFO(r.output);
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("--frames") != std::string::npos);
+  CHECK(!test::FileExists(dir + "/w"));
+  CHECK(!test::FileExists(dir + "/t.md"));
 }

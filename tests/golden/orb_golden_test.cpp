@@ -40,9 +40,11 @@ TEST_CASE("orb golden: 30-frame static_xyz run is unchanged") {
     fs::create_directories(golden);
     for (const char* f : {"trace.dtr", "trajectory.txt"})
       fs::copy_file(ro.out_dir + "/" + f, golden + "/" + f, fs::copy_options::overwrite_existing);
-    WARN("golden updated: " << golden);
+    // Update mode never passes: the new golden must be committed and compared by a normal run.
+    FAIL("golden updated: " << golden << "; rerun without DYNREF_UPDATE_GOLDEN to compare");
   }
   REQUIRE(fs::exists(golden + "/trace.dtr"));
+  REQUIRE(fs::exists(golden + "/trajectory.txt"));
   const dynref::test::CommandResult d =
       dynref::test::RunDynref("diff " + golden + "/trace.dtr " + ro.out_dir + "/trace.dtr");
   INFO(d.output);

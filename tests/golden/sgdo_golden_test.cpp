@@ -42,7 +42,8 @@ TEST_CASE("sgdo golden: 30-frame walking_xyz trace is unchanged") {
   if (update != nullptr && std::string(update) == "1") {
     fs::create_directories(fs::path(golden).parent_path());
     fs::copy_file(ro.out_dir + "/trace.dtr", golden, fs::copy_options::overwrite_existing);
-    WARN("golden updated: " << golden);
+    // Update mode never passes: the new golden must be committed and compared by a normal run.
+    FAIL("golden updated: " << golden << "; rerun without DYNREF_UPDATE_GOLDEN to compare");
   }
   REQUIRE(fs::exists(golden));
   const dynref::test::CommandResult d = dynref::test::RunDynref("diff " + golden + " " + ro.out_dir);

@@ -97,7 +97,7 @@ TEST_CASE("trajectory: duplicate stamps kept last (TUM) or all (evo)") {
   CHECK(kept.duplicate_stamps == 1);
 }
 
-TEST_CASE("trajectory: writer round-trips exactly and is atomic") {
+TEST_CASE("trajectory: writer round-trips exactly and leaves no temp file") {
   const std::string dir = test::ScratchDir("io_traj_write");
   std::vector<StampedPose> poses(3);
   for (int i = 0; i < 3; ++i) {

@@ -11,6 +11,7 @@
 #include "io/trajectory.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/stage_registry.h"
+#include "trace/trace_reader.h"
 #include "test_support.h"
 
 using namespace dynref;
@@ -102,6 +103,7 @@ TEST_CASE("run: real fr1_desk frames, every frame-to-frame motion close to groun
     CHECK(j["timing"].contains(module));
     CHECK(j["timing"][module]["median_ms_per_frame"].get<double>() >= 0.0);
   }
+  CHECK(j["timing"]["total"]["median_ms_per_frame"].get<double>() > 0.0);
   CHECK(j["config"]["backbone"]["n_features"]["value"] == "1000");
 }
 
@@ -111,6 +113,8 @@ TEST_CASE("run: two runs give byte-identical trajectory and trace dump") {
   oa.frames.last = ob.frames.last = 4;
   REQUIRE(RunSequence(oa).exit_code == 0);
   REQUIRE(RunSequence(ob).exit_code == 0);
+  REQUIRE(!test::ReadFileBytes(a + "/trajectory.txt").empty());
+  REQUIRE(!test::ReadFileBytes(a + "/keyframes.txt").empty());
   CHECK(test::ReadFileBytes(a + "/trajectory.txt") == test::ReadFileBytes(b + "/trajectory.txt"));
   CHECK(test::ReadFileBytes(a + "/keyframes.txt") == test::ReadFileBytes(b + "/keyframes.txt"));
   const auto da = test::RunDynref("trace dump " + a + "/trace.dtr");
@@ -148,12 +152,29 @@ TEST_CASE("run: everything masked out is never initialised, every frame listed a
 TEST_CASE("run: per-feature weights reach pose optimisation and local BA") {
   RegisterTestStages();
   const std::string a = test::ScratchDir("run_weight_a"), b = test::ScratchDir("run_weight_b");
-  RunOptions oa = Options(a), ob = Options(b);
+  RunOptions oa = Options(a), ob = Options(b, "full");
   ob.config_path = WriteConfig(b, "test.half_weight");
-  oa.frames.last = ob.frames.last = 4;
   REQUIRE(RunSequence(oa).exit_code == 0);
   REQUIRE(RunSequence(ob).exit_code == 0);
+  REQUIRE(ReadJson(b + "/run.json")["local_ba_calls"].get<int>() >= 1);  // needs > 2 keyframes
+  REQUIRE(!test::ReadFileBytes(a + "/trajectory.txt").empty());
   CHECK(test::ReadFileBytes(a + "/trajectory.txt") != test::ReadFileBytes(b + "/trajectory.txt"));
+  // The stage halves every other feature's weight: residuals with weight 0.5 (information =
+  // 0.5 x inv_sigma2) must appear in pose optimisation (track.pose#k) and in local BA (localba#k).
+  trace::TraceReader reader(b + "/trace.dtr");
+  int pose_half = 0, ba_half = 0, pose_total = 0;
+  for (size_t g = 0; g < reader.groups().size(); ++g)
+    for (const trace::Record& r : reader.ReadGroup(g)) {
+      if (r.type != trace::RecordType::kResidual) continue;
+      const bool pose = r.stage.rfind("track.pose", 0) == 0;
+      const bool ba = r.stage.rfind("localba#", 0) == 0;
+      pose_total += pose;
+      pose_half += pose && r.weight == 0.5;
+      ba_half += ba && r.weight == 0.5;
+    }
+  CHECK(pose_total > 1000);
+  CHECK(pose_half > 300);
+  CHECK(ba_half > 300);
 }
 
 namespace {

@@ -3,6 +3,7 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include <catch2/catch.hpp>
+#include <filesystem>
 #include <cstdlib>
 #include <fstream>
 
@@ -37,8 +38,10 @@ TEST_CASE("golden overlay of a synthetic frame with GT labels matches golden/ove
   REQUIRE(written.size() == 2);
   const std::string golden = test::SourcePath("golden/overlay_synthetic_gt.png");
   if (const char* update = std::getenv("DYNREF_UPDATE_GOLDEN"); update && std::string(update) == "1") {
-    std::system(("cp '" + written[0] + "' '" + golden + "'").c_str());
-    WARN("golden updated: " << golden);
+    REQUIRE(std::filesystem::copy_file(written[0], golden,
+                                       std::filesystem::copy_options::overwrite_existing));
+    // Update mode never passes: the new golden must be committed and compared by a normal run.
+    FAIL("golden updated: " << golden << "; rerun without DYNREF_UPDATE_GOLDEN to compare");
   }
   // Threshold: at most 0.1 % of the pixels may differ by more than 2/255 (PNG codecs and
   // image decoders of another platform; our own drawing is integer-exact).
