@@ -72,8 +72,8 @@ struct RpeResult {
 // evaluate_rpe.py --fixed_delta (`--rpe-mode tum`): for each estimate index i, j = closest index
 // (TUM's find_closest_index) to stamp_i + delta (or i + delta frames); dropped when j is the last
 // index; both ends matched to the ground-truth stamp closest to stamp + offset, dropped when
-// farther than 2 x the
-// median ground-truth interval; E = ominus(ominus(est_1, est_0), ominus(gt_1, gt_0)) with
+// farther than 2 x the median ground-truth interval (kInterp: see RpeMode);
+// E = ominus(ominus(est_1, est_0), ominus(gt_1, gt_0)) with
 // ominus(a, b) = a^-1 b, i.e. E = dEst * dGt^-1 where d = pose_0^-1 pose_1; trans = |t(E)|,
 // rot = acos(clamp((tr R(E) - 1) / 2)). TUM randomly keeps 10,000 pairs when it has more;
 // dynref always uses every pair. Duplicate stamps must already be collapsed (kKeepLast).
