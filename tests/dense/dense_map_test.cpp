@@ -59,6 +59,7 @@ TEST_CASE("dense map: keyframes accumulate, global filter every N keyframes, det
   DenseMap again(o);
   again.AddKeyframe(bgr, depth, {}, {}, cam, SE3::Identity());
   again.AddKeyframe(bgr, depth, {}, {}, cam, T_wc);
+  CHECK(!map.cloud().empty());
   REQUIRE(again.cloud().size() == map.cloud().size());
   for (size_t i = 0; i < map.cloud().size(); ++i) CHECK(again.cloud()[i].x == map.cloud()[i].x);
   o.pixel_stride = 0;

@@ -1,5 +1,8 @@
 #include <catch2/catch.hpp>
 
+#include <stdexcept>
+#include <utility>
+
 #include "core/rng.h"
 #include "dense/filters.h"
 
@@ -25,20 +28,45 @@ TEST_CASE("dense voxel: centroid, mean colour, majority class, key order") {
   CHECK(out[2].r == 20);            // round(61/3)
   CHECK(out[2].class_id == 5);
   CHECK(out[0].class_id == -1);
-  CHECK_THROWS(VoxelDownsample(in, 0.0));
+  CHECK_THROWS_AS(VoxelDownsample(in, 0.0), std::invalid_argument);
 }
 
 TEST_CASE("dense voxel: result does not depend on a permutation of equal-voxel inputs' order") {
+  // Coordinates on a 2^-20 m grid in [0, 1]: voxel sums are exact in double, so the
+  // summation-order caveat of VoxelDownsample does not apply and equality is bit-exact.
   PointCloud a;
   dynref::Rng rng(1, "test.dense");
-  for (int i = 0; i < 2000; ++i)
-    a.push_back(P(static_cast<float>(rng.Uniform(0, 1)), static_cast<float>(rng.Uniform(0, 1)),
-                  static_cast<float>(rng.Uniform(0, 1))));
+  const auto coord = [&] { return static_cast<float>(rng.UniformInt(0, 1 << 20)) / (1 << 20); };
+  for (int i = 0; i < 2000; ++i) {
+    ColoredPoint p = P(coord(), coord(), coord(), static_cast<uint8_t>(rng.UniformInt(0, 255)),
+                       static_cast<int16_t>(rng.UniformInt(-1, 2)));
+    p.g = static_cast<uint8_t>(rng.UniformInt(0, 255));
+    p.b = static_cast<uint8_t>(rng.UniformInt(0, 255));
+    a.push_back(p);
+  }
+  // Deterministic Fisher-Yates shuffle of a copy.
+  PointCloud shuffled = a;
+  dynref::Rng shuffle_rng(2, "test.dense.shuffle");
+  for (size_t i = shuffled.size() - 1; i > 0; --i) {
+    const int64_t j = shuffle_rng.UniformInt(0, static_cast<int64_t>(i));
+    std::swap(shuffled[i], shuffled[static_cast<size_t>(j)]);
+  }
+  // Output is ordered by voxel key, so no sorting is needed before comparing.
   const PointCloud out1 = VoxelDownsample(a, 0.1);
-  const PointCloud out2 = VoxelDownsample(a, 0.1);
+  const PointCloud out2 = VoxelDownsample(shuffled, 0.1);
+  CHECK(!out1.empty());
   REQUIRE(out1.size() == out2.size());
   CHECK(out1.size() <= 1000);
-  for (size_t i = 0; i < out1.size(); ++i) CHECK(out1[i].x == out2[i].x);
+  for (size_t i = 0; i < out1.size(); ++i) {
+    INFO("voxel " << i);
+    CHECK(out1[i].x == out2[i].x);
+    CHECK(out1[i].y == out2[i].y);
+    CHECK(out1[i].z == out2[i].z);
+    CHECK(out1[i].r == out2[i].r);
+    CHECK(out1[i].g == out2[i].g);
+    CHECK(out1[i].b == out2[i].b);
+    CHECK(out1[i].class_id == out2[i].class_id);
+  }
 }
 
 TEST_CASE("dense SOR: removes isolated points, keeps a dense plane, keeps order") {

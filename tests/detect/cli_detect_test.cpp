@@ -77,9 +77,20 @@ TEST_CASE("cli: detect exits 2 with a clear message for bad models, corrupt mask
   const auto corrupt = RunDynref("detect --source files --input " + dir + " " + img);
   CHECK(corrupt.exit_code == 2);
   CHECK(corrupt.output.find("corrupt") != std::string::npos);
-  CHECK(RunDynref("detect --source nanodet " + kSeq + " --frames 5-99 --out " + dir + "/x").exit_code == 2);
-  CHECK(RunDynref("detect --source nanodet " + kSeq + " --frames 3-1 --out " + dir + "/x").exit_code == 2);
-  CHECK(RunDynref("detect --source nanodet " + kSeq + " --frames 9- --out " + dir + "/x").exit_code == 2);
+  // Bad ranges name the option and say what is wrong (core/frame_range.cpp).
+  const auto frames = [&](const std::string& range) {
+    return RunDynref("detect --source nanodet " + kSeq + " --frames " + range + " --out " + dir +
+                     "/x");
+  };
+  const auto beyond = frames("5-99"), reversed = frames("3-1"), open_end = frames("9-");
+  CHECK(beyond.exit_code == 2);
+  CHECK(beyond.output.find("--frames: frames 5-99 beyond the sequence's 9 frames") !=
+        std::string::npos);
+  CHECK(reversed.exit_code == 2);
+  CHECK(reversed.output.find("got '3-1': B < A") != std::string::npos);
+  CHECK(open_end.exit_code == 2);
+  CHECK(open_end.output.find("--frames: frames 9- beyond the sequence's 9 frames") !=
+        std::string::npos);
   CHECK(RunDynref("detect --source nanodet " + kSeq).exit_code == 2);  // no --out
   CHECK(RunDynref("detect --help").exit_code == 0);
 }

@@ -128,14 +128,19 @@ TEST_CASE("nanodet: repeated detection is identical, --no-masks gives the same b
   CHECK(Nanodet().name() == "nanodet+selfie");
   CHECK(Nanodet().model_sha256() == std::string(dynref::kNanodetSha256) + "+" + dynref::kSelfieSha256);
   const FrameDetections c = boxes_only->Detect(im, "person");
+  CHECK(!a.instances.empty());  // person.jpg has a person
   REQUIRE(a.instances.size() == b.instances.size());
   REQUIRE(a.instances.size() == c.instances.size());
   for (size_t i = 0; i < a.instances.size(); ++i) {
-    CHECK(a.instances[i].x_min == b.instances[i].x_min);
-    CHECK(a.instances[i].y_max == b.instances[i].y_max);
-    CHECK(a.instances[i].confidence == b.instances[i].confidence);
-    CHECK(a.instances[i].x_min == c.instances[i].x_min);
-    CHECK(a.instances[i].confidence == c.instances[i].confidence);
+    INFO("instance " << i);
+    for (const dynref::DetectedInstance* o : {&b.instances[i], &c.instances[i]}) {
+      CHECK(a.instances[i].x_min == o->x_min);
+      CHECK(a.instances[i].y_min == o->y_min);
+      CHECK(a.instances[i].x_max == o->x_max);
+      CHECK(a.instances[i].y_max == o->y_max);
+      CHECK(a.instances[i].class_id == o->class_id);
+      CHECK(a.instances[i].confidence == o->confidence);
+    }
     CHECK_FALSE(c.instances[i].has_mask);
   }
   CHECK(cv::countNonZero(a.instance_ids != b.instance_ids) == 0);

@@ -66,6 +66,8 @@ TEST_CASE("sources: files source round-trips the mask format exactly") {
     CHECK(got.instances[i].class_name == want.instances[i].class_name);
     CHECK(got.instances[i].confidence == want.instances[i].confidence);  // bit-exact
     CHECK(got.instances[i].x_min == want.instances[i].x_min);
+    CHECK(got.instances[i].y_min == want.instances[i].y_min);
+    CHECK(got.instances[i].x_max == want.instances[i].x_max);
     CHECK(got.instances[i].y_max == want.instances[i].y_max);
     CHECK(got.instances[i].has_mask == want.instances[i].has_mask);
   }

@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include <stdexcept>
+
 #include "dynamic/sgdo/coarse.h"
 
 using namespace dynref::sgdo;
@@ -68,7 +70,7 @@ TEST_CASE("sgdo coarse: mode names round-trip and bad options are named") {
   for (auto m : {CoarseMode::kPerPoint, CoarseMode::kInstanceVote, CoarseMode::kMaskOnly,
                  CoarseMode::kEpipolarOnly})
     CHECK(ParseCoarseMode(CoarseModeName(m)) == m);
-  CHECK_THROWS(ParseCoarseMode("or"));
+  CHECK_THROWS_AS(ParseCoarseMode("or"), std::invalid_argument);
   CoarseOptions o;
   o.vote_ratio = 0;
   CHECK_THROWS_WITH(o.Check(), Catch::Contains("vote_ratio"));

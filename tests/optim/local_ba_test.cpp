@@ -2,6 +2,7 @@
 #include <catch2/catch.hpp>
 #include <cstring>
 
+#include "core/error.h"
 #include "optim/optim.h"
 #include "optim/synthetic_problem.h"
 
@@ -84,6 +85,11 @@ TEST_CASE("local-ba: two calls are bit-identical") {
       LocalBundleAdjust(K, p.keyframes, p.points, p.observations, LocalBAOptions{}, nullptr, "t");
   const LocalBAResult b =
       LocalBundleAdjust(K, p.keyframes, p.points, p.observations, LocalBAOptions{}, nullptr, "t");
+  CHECK(a.T_cw.size() == p.keyframes.size());
+  CHECK(a.X_w.size() == p.points.size());
+  CHECK(a.inlier.size() == p.observations.size());
+  REQUIRE(b.T_cw.size() == a.T_cw.size());
+  REQUIRE(b.X_w.size() == a.X_w.size());
   for (const auto& [id, T] : a.T_cw) CHECK(BitIdentical(T, b.T_cw.at(id)));
   for (const auto& [id, X] : a.X_w)
     CHECK(std::memcmp(X.data(), b.X_w.at(id).data(), sizeof(double) * 3) == 0);
@@ -105,7 +111,15 @@ TEST_CASE("local-ba: weight-0 observations have no influence") {
       LocalBundleAdjust(K, p.keyframes, p.points, p.observations, LocalBAOptions{}, nullptr, "t");
   const LocalBAResult zero =
       LocalBundleAdjust(K, p.keyframes, p.points, obs, LocalBAOptions{}, nullptr, "t");
+  CHECK(base.T_cw.size() == p.keyframes.size());
+  CHECK(base.X_w.size() == p.points.size());
+  REQUIRE(zero.T_cw.size() == base.T_cw.size());
+  REQUIRE(zero.X_w.size() == base.X_w.size());
+  REQUIRE(base.inlier.size() == n);
+  REQUIRE(zero.inlier.size() == obs.size());
   for (const auto& [id, T] : base.T_cw) CHECK(BitIdentical(T, zero.T_cw.at(id)));
+  for (const auto& [id, X] : base.X_w)
+    CHECK(std::memcmp(X.data(), zero.X_w.at(id).data(), sizeof(double) * 3) == 0);
   for (size_t i = 0; i < n; ++i) CHECK(base.inlier[i] == zero.inlier[i]);
 }
 
@@ -114,10 +128,13 @@ TEST_CASE("local-ba: unknown ids and duplicate keyframes are bad input") {
   const Intrinsics K = SyntheticIntrinsics();
   std::vector<BAObservation> obs = p.observations;
   obs[0].kf_id = 99999;
-  CHECK_THROWS(LocalBundleAdjust(K, p.keyframes, p.points, obs, LocalBAOptions{}, nullptr, "t"));
+  CHECK_THROWS_AS(LocalBundleAdjust(K, p.keyframes, p.points, obs, LocalBAOptions{}, nullptr, "t"),
+                  InputError);
   std::vector<BAKeyFrame> kfs = p.keyframes;
   kfs.push_back(kfs[0]);
-  CHECK_THROWS(LocalBundleAdjust(K, kfs, p.points, p.observations, LocalBAOptions{}, nullptr, "t"));
+  CHECK_THROWS_AS(
+      LocalBundleAdjust(K, kfs, p.points, p.observations, LocalBAOptions{}, nullptr, "t"),
+      InputError);
 }
 
 TEST_CASE("local-ba: all keyframes fixed moves only points, no observations is a no-op") {
