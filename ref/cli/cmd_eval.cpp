@@ -138,7 +138,7 @@ int RunEval(const EvalArgs& a) {
                 {"gt_max_time_difference_s", rpe.gt_max_time_difference_s},
                 {"translational_m", StatsJson(rpe.trans_m)},
                 {"rotational_deg", StatsJson(rpe.rot_deg)}};
-    AtomicWriteFile(a.json, j.dump(2) + "\n");
+    AtomicWriteFile(a.json, j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   }
   return kExitOk;
 }

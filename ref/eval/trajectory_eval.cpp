@@ -24,6 +24,9 @@ const char* RpeModeName(RpeMode mode) { return mode == RpeMode::kTum ? "tum" : "
 void RpeOptions::Check() const {
   if (!(delta > 0) || !std::isfinite(delta))
     throw InputError("--delta", "must be a finite number > 0, got " + FormatDouble17(delta));
+  // TUM's closest-index search compares stamp + delta in double: beyond ~1e9 the stamps'
+  // differences vanish and it returns meaningless (even backward) pairs.
+  if (delta > 1e9) throw InputError("--delta", "must be <= 1e9, got " + FormatDouble17(delta));
   if (!std::isfinite(offset_s))
     throw InputError("--offset", "must be a finite number, got " + FormatDouble17(offset_s));
 }

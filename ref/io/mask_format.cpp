@@ -125,7 +125,7 @@ std::vector<std::string> DetectionsReader::Stamps() const {
   return out;
 }
 
-FrameDetections DetectionsReader::Read(const std::string& stamp_text) const {
+FrameDetections DetectionsReader::Read(const std::string& stamp_text, cv::Size image_size) const {
   auto it = index_.find(stamp_text);
   if (it == index_.end()) throw InputError(dir_ + "/index.txt", "no detections for frame " + stamp_text);
   FrameDetections out;
@@ -154,12 +154,20 @@ FrameDetections DetectionsReader::Read(const std::string& stamp_text) const {
   }
   std::sort(out.instances.begin(), out.instances.end(),
             [](const DetectedInstance& a, const DetectedInstance& b) { return a.id < b.id; });
+  for (size_t i = 1; i < out.instances.size(); ++i)
+    if (out.instances[i].id == out.instances[i - 1].id)
+      throw InputError(tpath, "instance id " + std::to_string(out.instances[i].id) + " appears twice");
   if (any_mask) {
     const std::string png = dir_ + "/" + it->second + ".png";
     out.instance_ids = cv::imread(png, cv::IMREAD_UNCHANGED);
     if (out.instance_ids.empty()) throw InputError(png, "missing or corrupt instance-id PNG");
     if (out.instance_ids.type() != CV_16U)
       throw InputError(png, "instance-id PNG must be 16-bit single channel");
+    if (!image_size.empty() && out.instance_ids.size() != image_size)
+      throw InputError(png, "instance-id PNG is " + std::to_string(out.instance_ids.cols) + "x" +
+                                std::to_string(out.instance_ids.rows) + ", the images are " +
+                                std::to_string(image_size.width) + "x" +
+                                std::to_string(image_size.height));
   }
   return out;
 }

@@ -53,8 +53,9 @@ class DetectionsReader {
   const std::string& model_sha256() const { return model_sha256_; }
   bool Has(const std::string& stamp_text) const { return index_.count(stamp_text) > 0; }
   std::vector<std::string> Stamps() const;  // ascending by value
-  // InputError (naming file and line) for a malformed record, corrupt or mis-sized PNG.
-  FrameDetections Read(const std::string& stamp_text) const;
+  // InputError (naming file and line) for a malformed record, a duplicate instance id, a corrupt
+  // PNG, or a PNG whose size differs from `image_size` (when given, i.e. non-empty).
+  FrameDetections Read(const std::string& stamp_text, cv::Size image_size = {}) const;
 
  private:
   std::string dir_, source_, model_sha256_;

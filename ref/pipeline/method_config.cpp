@@ -191,7 +191,7 @@ std::string MethodConfig::ToJson() const {
     st.push_back(sj);
   }
   j["stages"] = st;
-  return j.dump();
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);  // invalid UTF-8 -> U+FFFD
 }
 
 }  // namespace dynref

@@ -81,7 +81,8 @@ void RunOptions::Check() const {
     throw InputError("dynref run", "--frames: need 0 <= A <= B");
   if (!detections_dir.empty() && !detector.empty())
     throw InputError("dynref run", "--detections and --detector are exclusive");
-  if (overlays && trace_level == "off") throw InputError("dynref run", "--overlays needs a trace (--trace frames|full)");
+  if (overlays && trace_level != "full")
+    throw InputError("dynref run", "--overlays needs --trace full (the overlays are drawn from its observation records)");
 }
 
 RunResult RunSequence(const RunOptions& options) {
@@ -114,6 +115,10 @@ RunResult RunSequence(const RunOptions& options) {
   for (const FrameEntry& e : seq.frames)
     if (e.index >= options.frames.first && e.index <= last_frame) frames.push_back(e);
   fs::create_directories(options.out_dir);
+  // A rerun into the same folder must not leave outputs of the earlier run beside the new ones.
+  if (trace::ParseLevel(options.trace_level) == trace::Level::kOff)
+    fs::remove(options.out_dir + "/trace.dtr");
+  if (!options.overlays) fs::remove_all(options.out_dir + "/overlays");
 
   trace::RunHeader header;
   header.dynref_version = DYNREF_VERSION;
@@ -174,109 +179,112 @@ RunResult RunSequence(const RunOptions& options) {
     f.stamp_text = e.rgb_stamp_text;
     f.trace = &trace;
     FrameDetections dets;
+    // Bad input mid-run (an unreadable frame, a detection mask of the wrong size, a stage
+    // rejecting its input) ends the run cleanly: the outputs so far are written and run.json
+    // says where and why.
     try {
       f.rgb = LoadRgb(seq, e);
       f.depth_m = LoadDepthMeters(seq, e);
       if (det_reader) {
         if (!det_reader->Has(e.rgb_stamp_text))
           throw InputError(options.detections_dir, "no detections for frame stamp " + e.rgb_stamp_text);
-        dets = det_reader->Read(e.rgb_stamp_text);
+        dets = det_reader->Read(e.rgb_stamp_text, cv::Size(camera.width, camera.height));
       } else if (det_source) {
         dets = det_source->Detect(f.rgb, e.rgb_stamp_text);
       }
-    } catch (const InputError& err) {
+      if (det_reader || det_source) f.detections = &dets;
+      const auto t_loaded = Clock::now();
+      // f.rgb is BGR (cv::imread). ORB-SLAM2's rgbd_tum with Camera.RGB: 1 (TUM1-3.yaml) converts
+      // those BGR images with CV_RGB2GRAY, so blue gets red's weight; backbone.camera_rgb_flag
+      // reproduces that grey image (default), false gives the true luminance.
+      cv::cvtColor(f.rgb, f.grey, rgb_flag ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
+      if (cv::countNonZero(f.depth_m > 0) == 0) ++n_zero_depth;
+      extractor.Extract(f.grey, &f.keys, &f.descriptors);
+      f.pyramid = pyramid;
+      f.FinishFeatures(camera);
+      const auto t1 = Clock::now();
+      trace.FrameCount("extract", "keypoints", static_cast<int64_t>(f.N()));
+
+      const Frame* prev = tracker.last_frame();
+      const bool was_lost = tracker.state() == tracking::TrackState::kLost;
+      const bool initialised = tracker.state() != tracking::TrackState::kNotInitialised;
+      StageContext ctx{f,           prev,   tracker.reference_kf(), map, camera, trace, nullptr,
+                       nullptr,     initialised, was_lost, options.out_dir};
+      RunStages(stages, Hook::kAfterExtraction, ctx);
+      RunStages(stages, Hook::kBeforeInitialPose, ctx);
+      if (f.ExcludedCount() == static_cast<int>(f.N()) && f.N() > 0) ++n_all_excluded;
+
+      bool ok = false;
+      KeyFrame* new_kf = nullptr;
+      double mapping_ms = 0, ba_ms = 0;
+      std::string lost_reason;
+      if (!initialised) {
+        new_kf = tracker.TryInitialise(f);
+        ok = new_kf != nullptr;
+        if (!ok) lost_reason = "not-initialised";
+        if (ok) trace.FramePose("initial", f.T_cw.inverse());
+      } else {
+        ok = tracker.TrackInitial(f);
+        if (ok) {
+          trace.FramePose("initial", f.T_cw.inverse());
+          ctx.reference_kf = tracker.reference_kf();
+          RunStages(stages, Hook::kAfterInitialPose, ctx);
+          tracker.SearchLocalMap(f);
+          ctx.reference_kf = tracker.reference_kf();
+          RunStages(stages, Hook::kBeforeFinalPose, ctx);
+          ok = tracker.OptimizeFinal(f);
+          if (!ok) lost_reason = "lost: local map tracking failed";
+        } else {
+          lost_reason = was_lost ? "lost: relocalisation failed" : "lost: initial pose failed";
+        }
+        if (ok && tracker.NeedNewKeyFrame(f)) new_kf = tracker.CreateNewKeyFrame(f);
+      }
+      const auto t2 = Clock::now();
+      if (ok) trace.FramePose("final", f.T_cw.inverse());
+      if (trace.full_enabled()) {
+        for (size_t i = 0; i < f.N(); ++i) {
+          const cv::KeyPoint& kp = f.keys_un[i];
+          const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
+          trace.Observation(static_cast<int64_t>(i), mp, kp.pt.x, kp.pt.y, f.depth[i] > 0 ? f.depth[i] : 0.0,
+                            kp.octave, Fnv1a64(f.descriptors.ptr<uint8_t>(static_cast<int>(i)), 32));
+        }
+      }
+      if (new_kf != nullptr) {
+        ctx.new_keyframe = new_kf;
+        ctx.mutable_map = &map;
+        ctx.reference_kf = tracker.reference_kf();
+        RunStages(stages, Hook::kOnKeyFrameCreated, ctx);
+        const mapping::LocalMapperStats ms = mapper.ProcessKeyFrame(new_kf->id);
+        ba_ms = ms.ba_ms;
+        RunStages(stages, Hook::kOnMapUpdate, ctx);
+      }
+      const auto t3 = Clock::now();
+      mapping_ms = Ms(t2, t3) - ba_ms;
+      trace.FrameCount("features", "excluded", f.ExcludedCount());
+      trace.FrameCount("track", "ok", ok ? 1 : 0);
+      trace.FrameCount("track", "keyframe", new_kf != nullptr ? 1 : 0);
+      tracker.FinishFrame(f, ok);
+      const auto t4 = Clock::now();
+      timings.load.push_back(Ms(t0, t_loaded));
+      timings.extraction.push_back(Ms(t_loaded, t1));
+      timings.tracking.push_back(Ms(t1, t2) + Ms(t3, t4));
+      timings.mapping.push_back(mapping_ms);
+      timings.ba.push_back(ba_ms);
+      timings.slam.push_back(Ms(t_loaded, t4));
+      timings.total.push_back(Ms(t0, t4));
+      ++result.frames;
+      if (ok) ++result.tracked;
+      else lost_reasons.emplace_back(static_cast<int>(k), lost_reason);
+      if (progress) {
+        std::cerr << "\rdynref run: frame " << (k + 1) << "/" << frames.size() << "  keyframes "
+                  << map.keyframes.size() << "  points " << map.GoodPointCount() << "  lost "
+                  << lost_reasons.size() << "   " << std::flush;
+      }
+    } catch (const std::exception& err) {
       result.end_state = "error: frame " + std::to_string(e.index) + " (" + e.rgb_stamp_text + "): " + err.what();
       result.exit_code = kExitBadInput;
-      std::cerr << "dynref run: " << result.end_state << "\n";
+      std::cerr << (progress ? "\n" : "") << "dynref run: " << result.end_state << "\n";
       break;
-    }
-    if (det_reader || det_source) f.detections = &dets;
-    const auto t_loaded = Clock::now();
-    // f.rgb is BGR (cv::imread). ORB-SLAM2's rgbd_tum with Camera.RGB: 1 (TUM1-3.yaml) converts
-    // those BGR images with CV_RGB2GRAY, so blue gets red's weight; backbone.camera_rgb_flag
-    // reproduces that grey image (default), false gives the true luminance.
-    cv::cvtColor(f.rgb, f.grey, rgb_flag ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
-    if (cv::countNonZero(f.depth_m > 0) == 0) ++n_zero_depth;
-    extractor.Extract(f.grey, &f.keys, &f.descriptors);
-    f.pyramid = pyramid;
-    f.FinishFeatures(camera);
-    const auto t1 = Clock::now();
-    trace.FrameCount("extract", "keypoints", static_cast<int64_t>(f.N()));
-
-    const Frame* prev = tracker.last_frame();
-    const bool was_lost = tracker.state() == tracking::TrackState::kLost;
-    const bool initialised = tracker.state() != tracking::TrackState::kNotInitialised;
-    StageContext ctx{f,           prev,   tracker.reference_kf(), map, camera, trace, nullptr,
-                     nullptr,     initialised, was_lost, options.out_dir};
-    RunStages(stages, Hook::kAfterExtraction, ctx);
-    RunStages(stages, Hook::kBeforeInitialPose, ctx);
-    if (f.ExcludedCount() == static_cast<int>(f.N()) && f.N() > 0) ++n_all_excluded;
-
-    bool ok = false;
-    KeyFrame* new_kf = nullptr;
-    double mapping_ms = 0, ba_ms = 0;
-    std::string lost_reason;
-    if (!initialised) {
-      new_kf = tracker.TryInitialise(f);
-      ok = new_kf != nullptr;
-      if (!ok) lost_reason = "not-initialised";
-      if (ok) trace.FramePose("initial", f.T_cw.inverse());
-    } else {
-      ok = tracker.TrackInitial(f);
-      if (ok) {
-        trace.FramePose("initial", f.T_cw.inverse());
-        ctx.reference_kf = tracker.reference_kf();
-        RunStages(stages, Hook::kAfterInitialPose, ctx);
-        tracker.SearchLocalMap(f);
-        ctx.reference_kf = tracker.reference_kf();
-        RunStages(stages, Hook::kBeforeFinalPose, ctx);
-        ok = tracker.OptimizeFinal(f);
-        if (!ok) lost_reason = "lost: local map tracking failed";
-      } else {
-        lost_reason = was_lost ? "lost: relocalisation failed" : "lost: initial pose failed";
-      }
-      if (ok && tracker.NeedNewKeyFrame(f)) new_kf = tracker.CreateNewKeyFrame(f);
-    }
-    const auto t2 = Clock::now();
-    if (ok) trace.FramePose("final", f.T_cw.inverse());
-    if (trace.full_enabled()) {
-      for (size_t i = 0; i < f.N(); ++i) {
-        const cv::KeyPoint& kp = f.keys_un[i];
-        const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
-        trace.Observation(static_cast<int64_t>(i), mp, kp.pt.x, kp.pt.y, f.depth[i] > 0 ? f.depth[i] : 0.0,
-                          kp.octave, Fnv1a64(f.descriptors.ptr<uint8_t>(static_cast<int>(i)), 32));
-      }
-    }
-    if (new_kf != nullptr) {
-      ctx.new_keyframe = new_kf;
-      ctx.mutable_map = &map;
-      ctx.reference_kf = tracker.reference_kf();
-      RunStages(stages, Hook::kOnKeyFrameCreated, ctx);
-      const mapping::LocalMapperStats ms = mapper.ProcessKeyFrame(new_kf->id);
-      ba_ms = ms.ba_ms;
-      RunStages(stages, Hook::kOnMapUpdate, ctx);
-    }
-    const auto t3 = Clock::now();
-    mapping_ms = Ms(t2, t3) - ba_ms;
-    trace.FrameCount("features", "excluded", f.ExcludedCount());
-    trace.FrameCount("track", "ok", ok ? 1 : 0);
-    trace.FrameCount("track", "keyframe", new_kf != nullptr ? 1 : 0);
-    tracker.FinishFrame(f, ok);
-    const auto t4 = Clock::now();
-    timings.load.push_back(Ms(t0, t_loaded));
-    timings.extraction.push_back(Ms(t_loaded, t1));
-    timings.tracking.push_back(Ms(t1, t2) + Ms(t3, t4));
-    timings.mapping.push_back(mapping_ms);
-    timings.ba.push_back(ba_ms);
-    timings.slam.push_back(Ms(t_loaded, t4));
-    timings.total.push_back(Ms(t0, t4));
-    ++result.frames;
-    if (ok) ++result.tracked;
-    else lost_reasons.emplace_back(static_cast<int>(k), lost_reason);
-    if (progress) {
-      std::cerr << "\rdynref run: frame " << (k + 1) << "/" << frames.size() << "  keyframes "
-                << map.keyframes.size() << "  points " << map.GoodPointCount() << "  lost "
-                << lost_reasons.size() << "   " << std::flush;
     }
   }
   if (progress) std::cerr << "\n";
@@ -344,7 +352,9 @@ RunResult RunSequence(const RunOptions& options) {
   j["end_state"] = result.end_state;
   j["dynref_version"] = DYNREF_VERSION;
   j["dynref_commit"] = DYNREF_GIT_COMMIT;
-  AtomicWriteFile(options.out_dir + "/run.json", j.dump(2) + "\n");
+  // Paths and config sources are user text: invalid UTF-8 is written as U+FFFD, not an error.
+  AtomicWriteFile(options.out_dir + "/run.json",
+                  j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   trace.Close(result.end_state);
   if (options.overlays && result.frames > 0) {
     render::OverlayOptions ro;

@@ -193,6 +193,9 @@ TEST_CASE("ate and rpe: --offset undoes a constant stamp shift of the estimate")
   CHECK(ate_undone.stats.rmse < 1e-9);
   rpe.offset_s = std::nan("");
   CHECK_THROWS_AS(ComputeRpe(g, e, rpe), InputError);
+  rpe.offset_s = 0;
+  rpe.delta = 1e17;  // stamp + delta loses the stamps' precision: rejected, not nonsense pairs
+  CHECK_THROWS_AS(ComputeRpe(g, e, rpe), InputError);
 }
 
 TEST_CASE("rpe interp: ground truth interpolated at the stamps, last pair kept, gaps dropped") {

@@ -1,6 +1,7 @@
 // `dynref run` end to end on the bundled real frames: accuracy, determinism, bad input, and the
 // stage hooks (exclusion / weights) reaching the backbone.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -8,6 +9,7 @@
 
 #include "core/se3.h"
 #include "eval/trajectory_eval.h"
+#include "io/mask_format.h"
 #include "io/trajectory.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/stage_registry.h"
@@ -247,4 +249,62 @@ TEST_CASE("run: zero depth in every frame is never initialised, one zero-depth f
   CHECK(all.end_state == "never-initialised: depth is zero in every frame");
   const std::string lost = test::ReadFileBytes(o.out_dir + "/lost.txt");
   CHECK(std::count(lost.begin(), lost.end(), '\n') == 10);  // header + 9 frames
+}
+
+TEST_CASE("run: a detection mask of the wrong size mid-run ends the run cleanly, naming the PNG") {
+  const std::string dir = test::ScratchDir("run_bad_mask");
+  const auto s = test::RunDynref("synth --preset walking_xyz --frames 4 --seed 1 --detections ideal --out " +
+                                 test::Quote(dir + "/seq"));
+  REQUIRE(s.exit_code == 0);
+  const std::string det = dir + "/seq/detections/ideal";
+  std::vector<std::string> pngs;
+  for (const auto& entry : std::filesystem::directory_iterator(det))
+    if (entry.path().extension() == ".png") pngs.push_back(entry.path().string());
+  std::sort(pngs.begin(), pngs.end());
+  REQUIRE(pngs.size() == 4);
+  REQUIRE(cv::imwrite(pngs[2], cv::Mat(240, 320, CV_16UC1, cv::Scalar(0))));
+  const std::string out = dir + "/run";
+  const auto r = test::RunDynref("run --method sgdo --no-progress --sequence " + test::Quote(dir + "/seq") +
+                                 " --detections " + test::Quote(det) + " --out " + test::Quote(out));
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find(pngs[2] + ": instance-id PNG is 320x240, the images are 640x480") != std::string::npos);
+  const nlohmann::json j = ReadJson(out + "/run.json");
+  CHECK(j["end_state"].get<std::string>().rfind("error: frame 2", 0) == 0);
+  CHECK(j["frames_processed"] == 2);
+  CHECK(ReadTumTrajectory(out + "/trajectory.txt").poses.size() == 2);
+  // The reader itself: size check only when the image size is given; a repeated instance id
+  // is rejected naming the record file.
+  const DetectionsReader reader(det);
+  const std::vector<std::string> stamps = reader.Stamps();
+  REQUIRE(stamps.size() == 4);
+  CHECK_NOTHROW(reader.Read(stamps[2]));
+  CHECK_THROWS_AS(reader.Read(stamps[2], cv::Size(640, 480)), InputError);
+  const std::string txt = pngs[1].substr(0, pngs[1].size() - 4) + ".txt";
+  std::string records = test::ReadFileBytes(txt);
+  const size_t first_record = records.find_first_of("0123456789");
+  REQUIRE(first_record != std::string::npos);
+  records += records.substr(first_record, records.find('\n', first_record) + 1 - first_record);
+  test::WriteText(txt, records);
+  CHECK_THROWS_WITH(reader.Read(stamps[1]), Catch::Matchers::Contains(txt) &&
+                                                Catch::Matchers::Contains("appears twice"));
+}
+
+TEST_CASE("run: a rerun into the same folder removes the earlier run's trace and overlays") {
+  const std::string out = test::ScratchDir("run_rerun");
+  RunOptions o = Options(out, "full");
+  o.frames.last = 2;
+  o.overlays = true;
+  REQUIRE(RunSequence(o).exit_code == 0);
+  REQUIRE(std::filesystem::exists(out + "/trace.dtr"));
+  REQUIRE(std::filesystem::exists(out + "/overlays"));
+  o.trace_level = "off";
+  o.overlays = false;
+  REQUIRE(RunSequence(o).exit_code == 0);
+  CHECK(std::filesystem::exists(out + "/run.json"));
+  CHECK(!std::filesystem::exists(out + "/trace.dtr"));
+  CHECK(!std::filesystem::exists(out + "/overlays"));
+  // Overlays are drawn from a full trace: asking with a lighter trace fails before running.
+  o.trace_level = "frames";
+  o.overlays = true;
+  CHECK_THROWS_WITH(RunSequence(o), Catch::Matchers::Contains("--overlays needs --trace full"));
 }
