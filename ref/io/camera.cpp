@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <map>
 #include <opencv2/core/persistence.hpp>
 #include <sstream>
 #include <sys/stat.h>
@@ -49,6 +51,31 @@ std::string Shortest(double v) {
   return s;
 }
 
+// 1-based line of every top-level key of an ORB-SLAM2 settings file. cv::FileStorage reports no
+// lines and silently keeps the first of two equal keys, so the text is scanned for both: a key
+// given twice is an InputError naming the second line. Indented lines (the rows/cols/data of an
+// !!opencv-matrix), comments and directives are skipped.
+std::map<std::string, int> TopLevelKeyLines(const std::string& path) {
+  std::map<std::string, int> lines;
+  std::ifstream in(path);
+  std::string text;
+  for (int n = 1; std::getline(in, text); ++n) {
+    if (!text.empty() && text.back() == '\r') text.pop_back();
+    if (text.empty() || std::string(" \t#%-.{[").find(text[0]) != std::string::npos) continue;
+    const size_t colon = text.find(':');
+    if (colon == std::string::npos) continue;
+    std::string key = text.substr(0, colon);
+    while (!key.empty() && (key.back() == ' ' || key.back() == '\t')) key.pop_back();
+    if (key.size() >= 2 && (key[0] == '"' || key[0] == '\'') && key.back() == key[0])
+      key = key.substr(1, key.size() - 2);
+    const auto [it, inserted] = lines.emplace(key, n);
+    if (!inserted)
+      throw InputError(path, n, "duplicate key '" + key + "' (first given at line " +
+                                    std::to_string(it->second) + ")");
+  }
+  return lines;
+}
+
 }  // namespace
 
 Camera CameraPreset(const std::string& name) {
@@ -77,8 +104,8 @@ bool IsCameraPresetName(const std::string& name) {
 
 Camera ReadOrbSlamCameraYaml(const std::string& path) {
   struct stat st;
-  if (::stat(path.c_str(), &st) != 0 || !S_ISREG(st.st_mode))
-    throw InputError(path, "camera YAML not found");
+  if (::stat(path.c_str(), &st) != 0) throw InputError(path, "camera YAML not found");
+  if (!S_ISREG(st.st_mode)) throw InputError(path, "camera YAML is not a regular file");
   cv::FileStorage fs;
   try {
     if (!fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML))
@@ -86,6 +113,14 @@ Camera ReadOrbSlamCameraYaml(const std::string& path) {
   } catch (const cv::Exception& e) {
     throw InputError(path, std::string("not a readable ORB-SLAM2 camera YAML: ") + e.what());
   }
+  const std::map<std::string, int> key_lines = TopLevelKeyLines(path);
+  auto line_of = [&](const std::string& key) {
+    const auto it = key_lines.find(key);
+    return it == key_lines.end() ? 0 : it->second;
+  };
+  auto bad = [&](const std::string& key, const std::string& what) {
+    throw InputError(path, line_of(key), key + " " + what);
+  };
   auto number = [&](const std::string& key, bool mandatory, double fallback) {
     const cv::FileNode node = fs[key];
     if (node.empty() || node.isNone()) {
@@ -93,10 +128,16 @@ Camera ReadOrbSlamCameraYaml(const std::string& path) {
       return fallback;
     }
     if (!node.isReal() && !node.isInt())
-      throw InputError(path, "key '" + key + "' is not a number");
+      throw InputError(path, line_of(key), "key '" + key + "' is not a number");
     const double v = static_cast<double>(node);
-    if (!std::isfinite(v)) throw InputError(path, "key '" + key + "' is not finite");
+    if (!std::isfinite(v)) throw InputError(path, line_of(key), "key '" + key + "' is not finite");
     return v;
+  };
+  // Image size: checked as a number before the int conversion (a huge value would not fit).
+  auto size = [&](const std::string& key, double fallback) {
+    const double v = number(key, false, fallback);
+    if (!(v >= 1 && v <= 100000) || v != std::floor(v)) bad(key, "must be an integer in 1..100000");
+    return static_cast<int>(v);
   };
   Camera c;
   c.name = path;
@@ -109,15 +150,26 @@ Camera ReadOrbSlamCameraYaml(const std::string& path) {
   c.p1 = number("Camera.p1", true, 0);
   c.p2 = number("Camera.p2", true, 0);
   c.k3 = number("Camera.k3", false, 0);  // ORB-SLAM2 reads k3 only when present
-  c.width = static_cast<int>(number("Camera.width", false, 640));
-  c.height = static_cast<int>(number("Camera.height", false, 480));
+  c.width = size("Camera.width", 640);
+  c.height = size("Camera.height", 480);
   c.bf = number("Camera.bf", false, 40.0);
   c.th_depth = number("ThDepth", false, 40.0);
   c.depth_factor = number("DepthMapFactor", true, 5000.0);
-  if (c.fx <= 0 || c.fy <= 0) throw InputError(path, "Camera.fx and Camera.fy must be positive");
-  if (c.width <= 0 || c.height <= 0)
-    throw InputError(path, "Camera.width and Camera.height must be positive");
-  if (c.depth_factor <= 0) throw InputError(path, "DepthMapFactor must be positive");
+  // Read only to be validated (dynref takes fps and the channel order from elsewhere).
+  const double fps = number("Camera.fps", false, 30.0);
+  const double rgb = number("Camera.RGB", false, 1.0);
+  if (c.fx <= 0) bad("Camera.fx", "must be positive");
+  if (c.fy <= 0) bad("Camera.fy", "must be positive");
+  // The principal point lies inside the image (ORB-SLAM2's undistortion and grid assume it).
+  if (!(c.cx >= 0 && c.cx < c.width))
+    bad("Camera.cx", "must lie inside the image (0 <= cx < width " + std::to_string(c.width) + ")");
+  if (!(c.cy >= 0 && c.cy < c.height))
+    bad("Camera.cy",
+        "must lie inside the image (0 <= cy < height " + std::to_string(c.height) + ")");
+  if (c.bf <= 0) bad("Camera.bf", "must be positive (baseline * fx)");
+  if (fps <= 0) bad("Camera.fps", "must be positive");
+  if (rgb != 0 && rgb != 1) bad("Camera.RGB", "must be 0 (BGR) or 1 (RGB)");
+  if (c.depth_factor <= 0) bad("DepthMapFactor", "must be positive");
   return c;
 }
 

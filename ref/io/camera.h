@@ -27,7 +27,9 @@ Camera CameraPreset(const std::string& name);
 // True for the preset names CameraPreset accepts.
 bool IsCameraPresetName(const std::string& name);
 // ORB-SLAM2 style YAML (%YAML:1.0, Camera.fx ... Camera.k3, Camera.width/height, Camera.bf,
-// ThDepth, DepthMapFactor). Missing mandatory keys are errors naming the file and key.
+// ThDepth, DepthMapFactor). Missing mandatory keys are errors naming the file and key; duplicate
+// keys and out-of-range values (fx, fy, bf, fps, DepthMapFactor <= 0, principal point outside the
+// image, Camera.RGB not 0/1) are errors naming the file and line.
 Camera ReadOrbSlamCameraYaml(const std::string& path);
 // Writes the same YAML format (used by `dynref synth`), atomically.
 void WriteOrbSlamCameraYaml(const Camera& camera, const std::string& path);

@@ -24,6 +24,15 @@ bool IsFile(const std::string& p) {
   struct stat st;
   return ::stat(p.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
+// A --camera argument that names a file (FILE.yaml, FILE.yml or a path with '/') is read as one
+// even when it does not exist, so the error says the file is missing, not "unknown preset".
+bool LooksLikeCameraFile(const std::string& arg) {
+  auto ends_with = [&](const std::string& suffix) {
+    return arg.size() >= suffix.size() &&
+           arg.compare(arg.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  return ends_with(".yaml") || ends_with(".yml") || arg.find('/') != std::string::npos;
+}
 std::string Join(const std::string& root, const std::string& rel) {
   if (!rel.empty() && rel[0] == '/') return rel;
   return root + "/" + rel;
@@ -66,7 +75,7 @@ Camera ResolveSequenceCamera(const std::string& root, const std::string& camera,
       src = "preset " + camera + " (--camera)";
       return CameraPreset(camera);
     }
-    if (IsFile(camera)) {
+    if (IsFile(camera) || LooksLikeCameraFile(camera)) {
       src = "ORB-SLAM2 YAML " + camera + " (--camera)";
       return ReadOrbSlamCameraYaml(camera);
     }

@@ -3,6 +3,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <sys/stat.h>
+
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -39,11 +41,26 @@ const Default kBackboneDefaults[] = {
 
 int LineOf(const YAML::Node& n) { return n.Mark().line >= 0 ? n.Mark().line + 1 : 0; }
 
+// yaml-cpp keeps both entries of a key given twice (lookups see the first, iteration both):
+// refuse it, naming the line of the second.
+void RejectDuplicateKeys(const YAML::Node& map, const std::string& file, const std::string& where) {
+  std::map<std::string, int> seen;
+  for (const auto& kv : map) {
+    const std::string k = kv.first.as<std::string>();
+    const auto [it, inserted] = seen.emplace(k, LineOf(kv.first));
+    if (!inserted)
+      throw InputError(file, LineOf(kv.first), where + "duplicate key '" + k +
+                                                   "' (first given at line " +
+                                                   std::to_string(it->second) + ")");
+  }
+}
+
 Param ReadParam(const YAML::Node& node, const std::string& key, const std::string& file) {
   Param p;
   p.file = file;
   p.line = LineOf(node);
   if (!node.IsMap()) throw InputError(file, p.line, key + ": expected {value: ..., source: \"...\"}");
+  RejectDuplicateKeys(node, file, key + ": ");
   for (const auto& kv : node) {
     const std::string k = kv.first.as<std::string>();
     if (k != "value" && k != "source")
@@ -85,6 +102,9 @@ std::string MethodConfigPath(const std::string& method) {
 }
 
 MethodConfig LoadMethodConfig(const std::string& path) {
+  struct stat st;
+  if (::stat(path.c_str(), &st) != 0) throw InputError(path, "method config not found");
+  if (!S_ISREG(st.st_mode)) throw InputError(path, "method config is not a regular file");
   std::ifstream in(path);
   if (!in) throw InputError(path, "cannot open method config");
   YAML::Node root;
@@ -92,8 +112,11 @@ MethodConfig LoadMethodConfig(const std::string& path) {
     root = YAML::LoadFile(path);
   } catch (const YAML::Exception& e) {
     throw InputError(path, e.mark.line + 1, std::string("YAML: ") + e.msg);
+  } catch (const std::ios_base::failure&) {
+    throw InputError(path, "cannot read method config");
   }
   if (!root.IsMap()) throw InputError(path, "top level must be a map (method, backbone, stages)");
+  RejectDuplicateKeys(root, path, "");
   MethodConfig cfg;
   cfg.path = path;
   for (const auto& kv : root) {
@@ -107,6 +130,7 @@ MethodConfig LoadMethodConfig(const std::string& path) {
   if (root["backbone"]) {
     const YAML::Node b = root["backbone"];
     if (!b.IsMap()) throw InputError(path, LineOf(b), "backbone must be a map");
+    RejectDuplicateKeys(b, path, "backbone: ");
     for (const auto& kv : b) {
       const std::string k = kv.first.as<std::string>();
       bool known = false;
@@ -133,23 +157,48 @@ MethodConfig LoadMethodConfig(const std::string& path) {
     const Param& p = bb.params.at(key);
     throw InputError(p.file, p.line, std::string("backbone.") + key + ": " + what);
   };
-  if (bb.n_features() < 1) bad("n_features", "must be >= 1");
+  // Integer keys: the range is checked on the number before the int conversion (a value past
+  // the int range would wrap, and some size allocations), then AsInt() checks it is integral.
+  auto int_in = [&](const char* key, double lo, double hi) {
+    const Param& p = bb.params.at(key);
+    const double v = p.AsDouble();
+    if (!(v >= lo && v <= hi))
+      bad(key, "must be in " + std::to_string(static_cast<int64_t>(lo)) + ".." +
+                   std::to_string(static_cast<int64_t>(hi)) + ", got " + p.value);
+    (void)p.AsInt();
+  };
+  // The ORB extractor reserves 10 * n_features candidate keypoints per level (int arithmetic)
+  // and the frame sizes its keypoint/descriptor arrays by it; 100000 is 100x the ORB-SLAM2
+  // default, far more corners than a 640x480 pyramid yields.
+  int_in("n_features", 1, 100000);
   if (!(bb.scale_factor() > 1)) bad("scale_factor", "must be > 1");
-  if (bb.n_levels() < 1 || bb.n_levels() > 16) bad("n_levels", "must be in 1..16");
-  if (bb.min_th_fast() < 1 || bb.min_th_fast() > bb.ini_th_fast()) bad("min_th_fast", "need 1 <= min_th_fast <= ini_th_fast");
-  if (bb.min_init_points() < 1) bad("min_init_points", "must be >= 1");
-  if (bb.max_frames() < 1) bad("max_frames", "must be >= 1");
-  if (bb.reloc_recent_keyframes() < 1) bad("reloc_recent_keyframes", "must be >= 1");
+  // Sizes the image pyramid (one image and scale per level); 16 as OrbOptions::Check.
+  int_in("n_levels", 1, 16);
+  // FAST thresholds are intensity differences on 8-bit images: nothing passes above 255.
+  int_in("ini_th_fast", 1, 255);
+  int_in("min_th_fast", 1, 255);
+  if (bb.min_th_fast() > bb.ini_th_fast())
+    bad("min_th_fast", "need 1 <= min_th_fast <= ini_th_fast");
+  // Compared with the number of features with depth (at most n_features, bounded above).
+  int_in("min_init_points", 1, 100000);
+  // Added to frame indices (int) in the keyframe and relocalisation decisions; 100000 frames
+  // (55 min at 30 fps) keeps the sums far from overflow.
+  int_in("max_frames", 1, 100000);
+  // Number of relocalisation candidate keyframes, each tried with a RANSAC.
+  int_in("reloc_recent_keyframes", 1, 100000);
   (void)bb.local_ba();
   (void)bb.keyframe_culling();
   (void)bb.camera_rgb_flag();
-  if (bb.params.at("seed").AsInt() < 0) bad("seed", "must be >= 0");
+  // Read through a double: 2^53 is the largest range in which every integer is exact.
+  int_in("seed", 0, 9007199254740992.0);
 
   if (root["stages"]) {
     const YAML::Node s = root["stages"];
     if (!s.IsSequence()) throw InputError(path, LineOf(s), "stages must be a list");
+    std::map<std::string, int> stage_lines;  // no config lists a stage twice: refused
     for (const auto& st : s) {
       if (!st.IsMap()) throw InputError(path, LineOf(st), "a stage must be {name: ..., params: {...}}");
+      RejectDuplicateKeys(st, path, "stage: ");
       StageConfig sc;
       for (const auto& kv : st) {
         const std::string k = kv.first.as<std::string>();
@@ -158,11 +207,16 @@ MethodConfig LoadMethodConfig(const std::string& path) {
       }
       if (!st["name"] || !st["name"].IsScalar()) throw InputError(path, LineOf(st), "stage without name");
       sc.name = st["name"].as<std::string>();
+      const auto [first, inserted] = stage_lines.emplace(sc.name, LineOf(st));
+      if (!inserted)
+        throw InputError(path, LineOf(st), "stage '" + sc.name + "' listed twice (first at line " +
+                                               std::to_string(first->second) + ")");
       sc.params.stage_name = sc.name;
       sc.params.file = path;
       sc.params.line = LineOf(st);
       if (st["params"]) {
         if (!st["params"].IsMap()) throw InputError(path, LineOf(st["params"]), "params must be a map");
+        RejectDuplicateKeys(st["params"], path, sc.name + ": ");
         for (const auto& kv : st["params"]) {
           const std::string k = kv.first.as<std::string>();
           sc.params.params[k] = ReadParam(kv.second, sc.name + "." + k, path);

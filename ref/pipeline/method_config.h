@@ -3,7 +3,8 @@
 //   method: NAME
 //   backbone: {n_features: {value: 1000, source: "..."}, ...}   (keys of BackboneConfig)
 //   stages: [ {name: "sgdo.mask", params: {key: {value: ..., source: "..."}}}, ... ]
-// Unknown keys are InputErrors naming the file and line. Backbone keys left out take the
+// Unknown keys, duplicate keys, a stage listed twice and out-of-range backbone values are
+// InputErrors naming the file and line. Backbone keys left out take the
 // ORB-SLAM2 default and are recorded with the source "default: ORB-SLAM2 ...".
 #pragma once
 #include <string>

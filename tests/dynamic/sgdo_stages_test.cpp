@@ -257,6 +257,31 @@ TEST_CASE("sgdo stages: dense map stage writes a PLY of the unmasked keyframe pi
   for (const auto& p : cloud) CHECK(p.z > 1.9f);  // no person point (1.5 m) in the static map
 }
 
+TEST_CASE("sgdo stages: dense map output with a '..' component is refused naming file:line") {
+  StageRegistry registry;
+  RegisterSgdoStages(registry);
+  auto make = [&](const std::string& output) {
+    std::map<std::string, Param> params = DenseMapParams();
+    Param out = P(output);
+    out.file = "c.yaml";
+    out.line = 7;
+    params["output"] = out;
+    return (*registry.Find("sgdo.densemap"))(Params("sgdo.densemap", params));
+  };
+  using Catch::Matchers::Contains;
+  for (const std::string bad : {"../../escaped.ply", "..", "sub/../x.ply", "/tmp/a/../b.ply"}) {
+    INFO(bad);
+    CHECK_THROWS_WITH(make(bad),
+                      Contains("c.yaml:7: sgdo.densemap: output must not contain a '..'"));
+  }
+  // Plain relative names (in the run folder) and absolute paths stay accepted (never written:
+  // no keyframe is added).
+  for (const std::string ok : {"dense_map.ply", "sub/map.ply", "a..b.ply", "/tmp/dense_map.ply"}) {
+    INFO(ok);
+    CHECK_NOTHROW(make(ok));
+  }
+}
+
 TEST_CASE("sgdo reproduce: bad arguments exit 2 without running anything") {
   const std::string dir = test::ScratchDir("sgdo_reproduce_args");
   const test::CommandResult r =

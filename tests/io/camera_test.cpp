@@ -56,6 +56,8 @@ TEST_CASE("camera: ORB-SLAM2 YAML round trip and missing keys") {
   Camera c = CameraPreset("tum_fr2");
   c.width = 320;
   c.height = 240;
+  c.cx = 160.5;  // the principal point must lie inside the (smaller) image
+  c.cy = 120.25;
   c.bf = 41.5;
   c.th_depth = 35.0;
   c.depth_factor = 1000.0;
@@ -103,4 +105,50 @@ TEST_CASE("camera: ORB-SLAM2 YAML round trip and missing keys") {
     CHECK(std::string(e.what()).find("Camera.fx") != std::string::npos);
   }
   CHECK_THROWS_AS(ReadOrbSlamCameraYaml(dir + "/missing.yaml"), InputError);
+}
+
+TEST_CASE("camera: ORB-SLAM2 YAML out-of-range values and duplicate keys name file and line") {
+  const std::string dir = test::ScratchDir("io_camera_yaml_bad");
+  // ORB-SLAM2 TUM1.yaml, one key a line: Camera.cx is line 4, Camera.fps line 13.
+  const std::string good =
+      "%YAML:1.0\nCamera.fx: 517.3\nCamera.fy: 516.5\nCamera.cx: 318.6\nCamera.cy: 255.3\n"
+      "Camera.k1: 0\nCamera.k2: 0\nCamera.p1: 0\nCamera.p2: 0\nCamera.k3: 0\n"
+      "Camera.width: 640\nCamera.height: 480\nCamera.fps: 30.0\nCamera.bf: 40.0\n"
+      "Camera.RGB: 1\nThDepth: 40.0\nDepthMapFactor: 5000.0\n";
+  const std::string ok = test::WriteText(dir + "/ok.yaml", good);
+  CHECK(ReadOrbSlamCameraYaml(ok).cx == 318.6);
+  struct Case {
+    std::string from, to, fragment;
+  };
+  const Case cases[] = {
+      {"Camera.bf: 40.0", "Camera.bf: -1", ":14: Camera.bf must be positive"},
+      {"Camera.cx: 318.6", "Camera.cx: 5000", ":4: Camera.cx must lie inside the image"},
+      {"Camera.cx: 318.6", "Camera.cx: -0.5", ":4: Camera.cx must lie inside the image"},
+      {"Camera.cy: 255.3", "Camera.cy: 480", ":5: Camera.cy must lie inside the image"},
+      {"Camera.RGB: 1", "Camera.RGB: 7", ":15: Camera.RGB must be 0 (BGR) or 1 (RGB)"},
+      {"Camera.fps: 30.0", "Camera.fps: 0", ":13: Camera.fps must be positive"},
+      {"Camera.width: 640", "Camera.width: 1e12", ":11: Camera.width must be an integer"},
+      {"Camera.fy: 516.5", "Camera.fy: 0", ":3: Camera.fy must be positive"},
+      {"DepthMapFactor: 5000.0", "DepthMapFactor: 5000.0\nCamera.fx: 600.0",
+       ":18: duplicate key 'Camera.fx' (first given at line 2)"},
+  };
+  int n = 0;
+  for (const Case& c : cases) {
+    std::string text = good;
+    REQUIRE(text.find(c.from) != std::string::npos);
+    text.replace(text.find(c.from), c.from.size(), c.to);
+    const std::string path = test::WriteText(dir + "/bad" + std::to_string(n++) + ".yaml", text);
+    INFO(c.to);
+    try {
+      ReadOrbSlamCameraYaml(path);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(std::string(e.what()).find(path + c.fragment) != std::string::npos);
+    }
+  }
+  using Catch::Matchers::Contains;
+  CHECK_THROWS_WITH(ReadOrbSlamCameraYaml(dir),
+                    Contains(dir + ": camera YAML is not a regular file"));
+  CHECK_THROWS_WITH(ReadOrbSlamCameraYaml(dir + "/nope.yaml"),
+                    Contains(dir + "/nope.yaml: camera YAML not found"));
 }

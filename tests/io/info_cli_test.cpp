@@ -24,6 +24,8 @@ void MakeSequence(const std::string& dir, int n, int depth_type, cv::Size depth_
   dynref::Camera cam = dynref::CameraPreset("synthetic");
   cam.width = 8;
   cam.height = 6;
+  cam.cx = 4.0;  // the principal point lies inside the image
+  cam.cy = 3.0;
   dynref::WriteOrbSlamCameraYaml(cam, dir + "/camera.yaml");
   std::string rgb_txt = "# color images\n", depth_txt = "# depth maps\n";
   for (int i = 0; i < n; ++i) {
@@ -106,4 +108,20 @@ TEST_CASE("info cli: real sequence and bad sequence folders exit 2 naming file a
   const auto with_cam = RunDynref("info " + Quote(nocam) + " --camera synthetic");
   CHECK(with_cam.exit_code == 2);  // synthetic preset is 640x480, images are 8x6
   CHECK(with_cam.output.find(nocam + "/rgb.txt:2:") != std::string::npos);
+}
+
+TEST_CASE("info cli: a missing or out-of-range --camera YAML exits 2 naming file and line") {
+  const std::string base = dynref::test::ScratchDir("info_cli_camera");
+  const std::string seq = base + "/seq";
+  ::mkdir(seq.c_str(), 0755);
+  MakeSequence(seq, 3, CV_16UC1, {8, 6});
+  ExpectBadInput("info " + Quote(seq) + " --camera " + Quote(base + "/nope.yaml"),
+                 base + "/nope.yaml: camera YAML not found");
+  const std::string bad = WriteText(
+      base + "/bad.yaml",
+      "%YAML:1.0\nCamera.fx: 535.4\nCamera.fy: 539.2\nCamera.cx: 5000\nCamera.cy: 3\n"
+      "Camera.k1: 0\nCamera.k2: 0\nCamera.p1: 0\nCamera.p2: 0\nCamera.width: 8\n"
+      "Camera.height: 6\nDepthMapFactor: 5000.0\n");
+  ExpectBadInput("info " + Quote(seq) + " --camera " + Quote(bad),
+                 bad + ":4: Camera.cx must lie inside the image");
 }

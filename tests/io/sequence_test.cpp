@@ -88,10 +88,20 @@ TEST_CASE("sequence: camera selection") {
   CHECK_THROWS_AS(ResolveSequenceCamera("/x/my_recording", "", nullptr), InputError);
   CHECK_THROWS_AS(ResolveSequenceCamera("/x/frame100", "", nullptr), InputError);
   CHECK_THROWS_AS(ResolveSequenceCamera(root, "no_such_camera", nullptr), InputError);
+  // A --camera that names a file (.yaml/.yml or a path) is reported as a missing file, not as an
+  // unknown preset.
+  using Catch::Matchers::Contains;
+  for (const std::string missing : {"nope.yaml", "nope.yml", "cams/nope"}) {
+    INFO(missing);
+    CHECK_THROWS_WITH(ResolveSequenceCamera(root, missing, nullptr),
+                      Contains(missing + ": camera YAML not found"));
+  }
   const std::string dir = test::ScratchDir("io_seq_camera");
   Camera c = CameraPreset("synthetic");
   c.width = 8;
   c.height = 6;
+  c.cx = 4.0;  // the principal point lies inside the image
+  c.cy = 3.0;
   WriteOrbSlamCameraYaml(c, dir + "/camera.yaml");
   CHECK(ResolveSequenceCamera(dir, "", &source).width == 8);
   CHECK(source == "camera.yaml in the folder");

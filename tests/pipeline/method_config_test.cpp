@@ -49,3 +49,88 @@ TEST_CASE("method config: unknown keys, missing sources and unknown stages are e
   const MethodConfig cfg = LoadMethodConfig(Write("stage", "method: x\nstages:\n  - name: nope.stage\n    params: {}\n"));
   CHECK_THROWS_AS(CreateStages(cfg, BuiltinStageRegistry()), InputError);
 }
+
+TEST_CASE("method config: out-of-range backbone integers are errors with file:line") {
+  struct Case {
+    std::string line, fragment;
+  };
+  const Case cases[] = {
+      {"n_features: {value: 99999999999, source: s}", "backbone.n_features: must be in 1..100000"},
+      {"n_features: {value: 1e300, source: s}", "backbone.n_features: must be in 1..100000"},
+      {"n_features: {value: 0, source: s}", "backbone.n_features: must be in 1..100000"},
+      {"n_levels: {value: 17, source: s}", "backbone.n_levels: must be in 1..16"},
+      {"ini_th_fast: {value: 256, source: s}", "backbone.ini_th_fast: must be in 1..255"},
+      {"min_init_points: {value: 4294967796, source: s}", "backbone.min_init_points: must be in"},
+      {"max_frames: {value: 2147483647, source: s}", "backbone.max_frames: must be in 1..100000"},
+      {"reloc_recent_keyframes: {value: -1, source: s}", "backbone.reloc_recent_keyframes: must"},
+      {"seed: {value: 1e30, source: s}", "backbone.seed: must be in 0..9007199254740992"},
+      {"n_features: {value: 10.5, source: s}", "not an integer: 10.5"},
+  };
+  int n = 0;
+  for (const Case& c : cases) {
+    const std::string path =
+        Write("int_range" + std::to_string(n++), "method: x\nbackbone:\n  " + c.line + "\n");
+    INFO(c.line);
+    try {
+      LoadMethodConfig(path);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(std::string(e.what()).find(path + ":3: " + c.fragment) != std::string::npos);
+    }
+  }
+  // The bounds admit the shipped configs and the ORB-SLAM2 defaults.
+  const std::string max =
+      Write("int_max", "method: x\nbackbone:\n  n_features: {value: 100000, source: s}\n");
+  CHECK(LoadMethodConfig(max).backbone.n_features() == 100000);
+}
+
+TEST_CASE("method config: duplicate keys and a stage listed twice are errors with file:line") {
+  struct Case {
+    std::string text, fragment;
+    int line;
+  };
+  const Case cases[] = {
+      {"method: x\nmethod: y\n", "duplicate key 'method' (first given at line 1)", 2},
+      {"method: x\nbackbone:\n  n_features: {value: 1000, source: s}\n"
+       "  n_features: {value: 2000, source: s}\n",
+       "backbone: duplicate key 'n_features' (first given at line 3)", 4},
+      {"method: x\nbackbone:\n  n_features: {value: 1000, value: 2000, source: s}\n",
+       "n_features: duplicate key 'value'", 3},
+      {"method: x\nstages:\n  - name: sgdo.mask\n    params: {}\n"
+       "  - name: sgdo.mask\n    params: {}\n",
+       "stage 'sgdo.mask' listed twice (first at line 3)", 5},
+      {"method: x\nstages:\n  - name: sgdo.mask\n    params:\n      a: {value: 1, source: s}\n"
+       "      a: {value: 2, source: s}\n",
+       "sgdo.mask: duplicate key 'a' (first given at line 5)", 6},
+      {"method: x\nstages:\n  - name: sgdo.mask\n    name: sgdo.depth\n",
+       "stage: duplicate key 'name'", 4},
+  };
+  int n = 0;
+  for (const Case& c : cases) {
+    const std::string path = Write("dup" + std::to_string(n++), c.text);
+    INFO(c.text);
+    try {
+      LoadMethodConfig(path);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(e.line() == c.line);
+      CHECK(std::string(e.what()).find(c.fragment) != std::string::npos);
+    }
+  }
+  // No shipped config lists a stage or a key twice.
+  for (const char* name : {"orb", "sgdo", "sgdo_G", "sgdo_O", "sgdo_S", "sgdo_SG", "sgdo_SGD",
+                           "sgdo_SGO", "sgdo_vote"})
+    CHECK_NOTHROW(LoadMethodConfig(MethodConfigPath(name)));
+}
+
+TEST_CASE("method config: a directory or a missing file as config is an error naming the path") {
+  const std::string dir = test::ScratchDir("method_config_dir");
+  using Catch::Matchers::Contains;
+  CHECK_THROWS_WITH(LoadMethodConfig(dir), Contains(dir + ": method config is not a regular file"));
+  CHECK_THROWS_WITH(LoadMethodConfig(dir + "/nope.yaml"),
+                    Contains(dir + "/nope.yaml: method config not found"));
+  test::ExpectBadInput("run --config " + test::Quote(dir) + " --sequence " +
+                           test::Quote(test::SourcePath("datasets/real/tum_fr1_desk_9frames")) +
+                           " --out " + test::Quote(dir + "/out"),
+                       dir + ": method config is not a regular file");
+}

@@ -29,6 +29,16 @@ DenseMapStage::DenseMapStage(const ParamMap& p, std::shared_ptr<Blackboard> boar
   if (fmt == "ascii") format_ = dense::PlyFormat::kAscii;
   else if (fmt != "binary") throw InputError(p.Get("ply_format").file, p.Get("ply_format").line, "ply_format must be binary|ascii");
   if (output_path_.empty()) throw InputError(p.file, p.line, "sgdo.densemap: output must name a file");
+  // A relative output lives in the run folder; a ".." component would let it escape from there
+  // (absolute paths are taken as given, but without ".." either).
+  for (size_t begin = 0; begin <= output_path_.size();) {
+    size_t end = output_path_.find('/', begin);
+    if (end == std::string::npos) end = output_path_.size();
+    if (output_path_.compare(begin, end - begin, "..") == 0)
+      throw InputError(p.Get("output").file, p.Get("output").line,
+                       "sgdo.densemap: output must not contain a '..' component: " + output_path_);
+    begin = end + 1;
+  }
   try {
     options_.Check();
   } catch (const std::invalid_argument& e) {
