@@ -5,6 +5,7 @@
 // Sources: ref/detect/README.md.
 #include <opencv2/imgcodecs.hpp>
 #include <chrono>
+#include <cmath>
 #include <ctime>
 #include <iostream>
 #include <map>
@@ -30,6 +31,7 @@ struct DetectArgs {
   DetectSourceOptions options;
   bool no_masks = false;
   int repeat = 0;
+  bool conf_given = false, frames_given = false;  // the option was on the command line
 };
 
 std::string SpecOf(const DetectArgs& a) {
@@ -37,6 +39,23 @@ std::string SpecOf(const DetectArgs& a) {
   if ((spec == "files" || spec == "labels") && !a.input.empty()) spec += ":" + a.input;
   if (spec == "gt" && !a.mode.empty()) spec += ":" + a.mode;
   return spec;
+}
+
+// Every option checked before anything is opened; InputError names the option.
+void CheckArgs(const DetectArgs& a) {
+  const DetectSourceOptions& o = a.options;
+  if (a.conf_given && !(o.confidence_threshold >= 0 && o.confidence_threshold <= 1))  // NaN fails too
+    throw InputError("--conf", "must be in [0, 1], got " + FormatDouble17(o.confidence_threshold));
+  if (!(o.nms_iou > 0 && o.nms_iou <= 1))
+    throw InputError("--nms-iou", "must be in (0, 1], got " + FormatDouble17(o.nms_iou));
+  if (o.max_detections < 1 || o.max_detections > 65535)
+    throw InputError("--max-detections", "must be in 1..65535, got " + std::to_string(o.max_detections));
+  if (o.yolo_input_size < 32 || o.yolo_input_size % 32 != 0)
+    throw InputError("--input-size", "must be a positive multiple of 32, got " + std::to_string(o.yolo_input_size));
+  if (a.frames_given && a.frames.empty())
+    throw InputError("--frames", "empty value (give A, A-B or A-; omit --frames for all frames)");
+  if (!a.frames.empty()) ParseFrameRange(a.frames);
+  CheckDetectionSpec(SpecOf(a), o, "--source");
 }
 
 void WritePng(const std::string& path, const cv::Mat& image) {
@@ -85,6 +104,7 @@ int RunDetect(DetectArgs a) {
   if (a.image.empty() == a.sequence.empty()) throw InputError("<args>", "give exactly one of --sequence or --image");
   if (!a.sequence.empty() && a.out.empty()) throw InputError("<args>", "--sequence needs --out DIR");
   if (!a.overlay.empty() && a.image.empty()) throw InputError("<args>", "--overlay goes with --image (use --overlays DIR)");
+  CheckArgs(a);
   using Clock = std::chrono::steady_clock;
 
   if (!a.image.empty()) {
@@ -173,14 +193,14 @@ void RegisterDetectCommand(CLI::App& root, CommandList& out) {
   app->add_option("--image", args->image, "Single image instead of a sequence");
   app->add_option("--out", args->out, "Output dynref-detections folder");
   app->add_option("--camera", args->camera, "Camera preset or ORB-SLAM2 YAML (default: auto)");
-  app->add_option("--frames", args->frames, "Frames A, A-B or A- (0-based, inclusive; default: all)");
+  CLI::Option* frames = app->add_option("--frames", args->frames, "Frames A, A-B or A- (0-based, inclusive; default: all)");
   app->add_option("--input", args->input, "Folder for --source files / labels");
   app->add_option("--mode", args->mode, "Detections mode of a synthetic sequence for --source gt");
   app->add_option("--model", args->options.model_path, "Network ONNX (default: bundled models/nanodet.onnx)");
   app->add_option("--model-sha256", args->options.model_sha256, "Expected sha256 of --model");
   app->add_option("--mask-model", args->options.mask_model_path, "Selfie segmenter ONNX (default: bundled)");
-  app->add_option("--conf", args->options.confidence_threshold,
-                  "Confidence threshold (default: nanodet 0.3, onnx-yolo 0.25, hog 0.5)");
+  CLI::Option* conf = app->add_option("--conf", args->options.confidence_threshold,
+                  "Confidence threshold in [0, 1] (default: nanodet 0.3, onnx-yolo 0.25, hog 0.5)");
   app->add_option("--nms-iou", args->options.nms_iou, "Per-class NMS IoU threshold")->capture_default_str();
   app->add_option("--max-detections", args->options.max_detections, "Per frame")->capture_default_str();
   app->add_option("--input-size", args->options.yolo_input_size, "onnx-yolo square input size")->capture_default_str();
@@ -190,7 +210,11 @@ void RegisterDetectCommand(CLI::App& root, CommandList& out) {
   app->add_option("--overlays", args->overlays, "With --sequence: write one overlay PNG per frame here");
   app->add_option("--repeat", args->repeat, "With --image: time N further runs (benchmark, stderr)")
       ->check(CLI::Range(0, 100000));
-  out.push_back({app, [args] { return RunDetect(*args); }});
+  out.push_back({app, [args, conf, frames] {
+                   args->conf_given = conf->count() > 0;
+                   args->frames_given = frames->count() > 0;
+                   return RunDetect(*args);
+                 }});
 }
 
 }  // namespace dynref::cli

@@ -1,4 +1,5 @@
 // `dynref trace dump|feature|bench`: read traces (ref/trace/README.md).
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <cstdio>
@@ -15,6 +16,22 @@
 namespace dynref::cli {
 namespace {
 
+// --frame must name a frame group of the trace (exit 2 otherwise, like --frames beyond a sequence).
+void CheckFrameInTrace(trace::TraceReader& reader, int64_t frame) {
+  int64_t lo = 0, hi = -1;
+  bool any = false;
+  for (const auto& g : reader.groups()) {
+    if (g.frame == frame) return;
+    lo = any ? std::min(lo, g.frame) : g.frame;
+    hi = any ? std::max(hi, g.frame) : g.frame;
+    any = true;
+  }
+  throw InputError(reader.path(), "--frame " + std::to_string(frame) + ": no such frame in this trace (" +
+                                      (any ? "frames " + std::to_string(lo) + ".." + std::to_string(hi)
+                                           : std::string("no frames")) +
+                                      ")");
+}
+
 void AddDump(CLI::App* parent, CommandList& out) {
   struct Args {
     std::string run;
@@ -24,17 +41,33 @@ void AddDump(CLI::App* parent, CommandList& out) {
   auto args = std::make_shared<Args>();
   CLI::App* app = parent->add_subcommand("dump", "Canonical text dump (one CSV row per field, or JSONL)");
   app->add_option("run", args->run, "Run directory or trace file")->required();
-  CLI::Option* frame = app->add_option("--frame", args->frame, "Only this frame");
+  app->footer(
+      "Exit 0 also when the filters match no record (a query, like an empty grep; a note goes to "
+      "stderr). Exit 2: unreadable trace, bad option, or a --frame that is not in the trace.");
+  CLI::Option* frame = app->add_option("--frame", args->frame,
+                                       "Only this frame (-1 = records before the first frame)");
   app->add_option("--stage", args->options.stage, "Only this stage / optimiser call id");
   app->add_option("--entity", args->options.entity, "Only this entity id (and its residuals ID@...)");
   app->add_option("--format", args->options.format, "csv (default) or jsonl");
   app->add_flag("--header", args->options.header, "Print the run header instead of records");
   out.push_back({app, [args, frame] {
-                   if (frame->count()) args->options.frame = args->frame;
+                   if (frame->count()) {
+                     if (args->frame < -1)
+                       throw InputError("--frame", "must be a frame index >= 0 (or -1 for the records before "
+                                                   "the first frame), got " + std::to_string(args->frame));
+                     args->options.frame = args->frame;
+                   }
                    args->options.Check();
                    trace::TraceReader reader(trace::ResolveTracePath(args->run));
-                   trace::WriteDump(reader, args->options, std::cout);
+                   if (args->options.frame) CheckFrameInTrace(reader, *args->options.frame);
+                   const uint64_t written = trace::WriteDump(reader, args->options, std::cout);
                    std::cout.flush();
+                   if (written == 0 && !args->options.header && reader.record_count() > 0)
+                     std::cerr << "dynref: note: no record of " << reader.path() << " matched"
+                               << (args->options.frame ? " --frame " + std::to_string(*args->options.frame) : "")
+                               << (args->options.stage.empty() ? "" : " --stage " + args->options.stage)
+                               << (args->options.entity.empty() ? "" : " --entity " + args->options.entity)
+                               << " (nothing dumped)\n";
                    return std::cout ? int{kExitOk} : int{kExitBadInput};
                  }});
 }
@@ -48,15 +81,20 @@ void AddFeature(CLI::App* parent, CommandList& out) {
       "feature", "Whole life of one feature (f<frame>.<index>) or map point (mp<id>): every "
                  "observation, update, residual and decision across frames");
   app->add_option("run", args->run, "Run directory or trace file")->required();
-  app->add_option("id", args->id, "Entity id, e.g. mp17 or f42.3")->required();
+  app->add_option("id", args->id, "Entity id, e.g. mp17 or f42.3 (any canonical id: f|i|l|pl|r<frame>.<n>, mp|kf<n>)")
+      ->required();
+  app->footer("Exit 1 if no record mentions ID; exit 2 for a malformed ID or an unreadable trace.");
   app->add_option("--plot", args->plot, "Write probability vs frame to this PNG");
   out.push_back({app, [args] {
+                   if (!trace::IsCanonicalEntityId(args->id))
+                     throw InputError("id", "'" + args->id + "' is not an entity id (expected f<frame>.<index>, "
+                                            "mp<id>, kf<id>, i|l|pl|r<frame>.<index>, optionally @f<frame>|@kf<id>)");
                    trace::TraceReader reader(trace::ResolveTracePath(args->run));
                    const trace::FeatureHistory h = trace::CollectFeatureHistory(reader, args->id);
                    trace::WriteFeatureTable(h, std::cout);
                    if (!args->plot.empty()) render::WriteFeaturePlot(h, args->plot);
                    if (h.rows.empty()) {
-                     std::cerr << "dynref: no record mentions " << args->id << "\n";
+                     std::cerr << "dynref: no record of " << reader.path() << " mentions " << args->id << "\n";
                      return int{kExitCheckFailed};
                    }
                    return int{kExitOk};
@@ -127,6 +165,11 @@ void AddBench(CLI::App* parent, CommandList& out) {
                   "record mix) and time only the writer calls");
   out.push_back({app, [args] {
                    using namespace trace;
+                   if (args->frames < 1) throw InputError("--frames", "must be >= 1, got " + std::to_string(args->frames));
+                   if (args->features < 1)
+                     throw InputError("--features", "must be >= 1, got " + std::to_string(args->features));
+                   if (args->residuals < 0)
+                     throw InputError("--residuals", "must be >= 0, got " + std::to_string(args->residuals));
                    if (!args->replay.empty()) return Replay(trace::ResolveTracePath(args->replay), args->out);
                    const auto t0 = std::chrono::steady_clock::now();
                    const std::clock_t c0 = std::clock();

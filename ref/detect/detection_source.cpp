@@ -1,5 +1,6 @@
 #include "detect/detection_source.h"
 
+#include <cmath>
 #include <cstdlib>
 
 #include "core/error.h"
@@ -21,57 +22,59 @@ std::string BundledModelPath(const std::string& file_name) {
 
 void DetectSourceOptions::Check() const {
   const std::string where = "<detect options>";
-  if (confidence_threshold > 1) throw InputError(where, "confidence_threshold must be <= 1 (or < 0 for the default)");
+  if (std::isnan(confidence_threshold) || confidence_threshold > 1)
+    throw InputError(where, "confidence_threshold must be <= 1 (or < 0 for the default)");
   if (!(nms_iou > 0 && nms_iou <= 1)) throw InputError(where, "nms_iou must be in (0, 1]");
   if (max_detections < 1 || max_detections > 65535) throw InputError(where, "max_detections must be in 1..65535");
   if (yolo_input_size < 32 || yolo_input_size % 32 != 0)
     throw InputError(where, "yolo_input_size must be a positive multiple of 32");
 }
 
-std::unique_ptr<DetectionSource> MakeDetectionSource(const std::string& spec,
-                                                     const DetectSourceOptions& options) {
-  options.Check();
+namespace {
+const char* const kKnownSpecs = "files:DIR, labels:DIR, gt, gt:MODE, nanodet, hog, onnx-yolo[:MODEL]";
+}  // namespace
+
+void CheckDetectionSpec(const std::string& spec, const DetectSourceOptions& options, const std::string& option) {
   const size_t colon = spec.find(':');
   const std::string kind = spec.substr(0, colon);
   const std::string arg = colon == std::string::npos ? "" : spec.substr(colon + 1);
   const auto need_arg = [&](const std::string& what) {
-    if (arg.empty()) throw InputError("<source>", "source '" + kind + "' needs " + what + " ('" + kind + ":...')");
+    if (arg.empty()) throw InputError(option, "source '" + kind + "' needs " + what + " ('" + kind + ":...')");
   };
   const auto no_arg = [&] {
-    if (colon != std::string::npos) throw InputError("<source>", "source '" + kind + "' takes no ':' argument");
+    if (colon != std::string::npos) throw InputError(option, "source '" + kind + "' takes no ':' argument");
   };
-  const auto need_sequence = [&] {
-    if (options.sequence_root.empty())
-      throw InputError("<source>", "source '" + spec + "' reads a synthetic sequence: give the sequence folder");
-  };
-  if (kind == "files") {
-    need_arg("a dynref-detections folder");
-    return detect::MakeFolderSource(arg);
-  }
-  if (kind == "labels") {
-    need_arg("a label-PNG folder with labels.yaml");
-    return detect::MakeLabelPngSource(arg);
-  }
+  if (kind == "files") return need_arg("a dynref-detections folder");
+  if (kind == "labels") return need_arg("a label-PNG folder with labels.yaml");
   if (kind == "gt") {
-    need_sequence();
+    if (options.sequence_root.empty())
+      throw InputError(option, "source '" + spec + "' reads a synthetic sequence: give the sequence folder");
+    return;
+  }
+  if (kind == "nanodet" || kind == "hog") return no_arg();
+  if (kind == "onnx-yolo") {
+    if (arg.empty() && options.model_path.empty())
+      throw InputError(option, "source 'onnx-yolo' needs a model: 'onnx-yolo:PATH' or --model PATH");
+    return;
+  }
+  throw InputError(option, "unknown detection source '" + spec + "' (known: " + kKnownSpecs + ")");
+}
+
+std::unique_ptr<DetectionSource> MakeDetectionSource(const std::string& spec,
+                                                     const DetectSourceOptions& options) {
+  options.Check();
+  CheckDetectionSpec(spec, options);
+  const size_t colon = spec.find(':');
+  const std::string kind = spec.substr(0, colon);
+  const std::string arg = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  if (kind == "files") return detect::MakeFolderSource(arg);
+  if (kind == "labels") return detect::MakeLabelPngSource(arg);
+  if (kind == "gt")
     return detect::MakeFolderSource(arg.empty() ? options.sequence_root + "/gt"
                                                 : options.sequence_root + "/detections/" + arg);
-  }
-  if (kind == "nanodet") {
-    no_arg();
-    return detect::MakeNanodetSource(options);
-  }
-  if (kind == "hog") {
-    no_arg();
-    return detect::MakeHogSource(options);
-  }
-  if (kind == "onnx-yolo") {
-    const std::string model = arg.empty() ? options.model_path : arg;
-    if (model.empty()) throw InputError("<source>", "source 'onnx-yolo' needs a model: 'onnx-yolo:PATH' or --model PATH");
-    return detect::MakeOnnxYoloSource(model, options);
-  }
-  throw InputError("<source>", "unknown detection source '" + spec +
-                                   "' (known: files:DIR, labels:DIR, gt, gt:MODE, nanodet, hog, onnx-yolo[:MODEL])");
+  if (kind == "nanodet") return detect::MakeNanodetSource(options);
+  if (kind == "hog") return detect::MakeHogSource(options);
+  return detect::MakeOnnxYoloSource(arg.empty() ? options.model_path : arg, options);  // onnx-yolo
 }
 
 namespace detect {

@@ -31,7 +31,7 @@ struct DetectSourceOptions {
   bool masks = true;            // nanodet: person masks by selfie; onnx-yolo seg: instance masks
   int yolo_input_size = 640;    // square input size the YOLO model was exported with
   std::string class_names_file; // onnx-yolo: one class name per line (default COCO-80 if nc = 80)
-  void Check() const;           // InputError naming the bad field
+  void Check() const;           // InputError naming the bad field (NaN thresholds included)
 };
 
 class DetectionSource {
@@ -48,6 +48,12 @@ class DetectionSource {
   // image size when some instance has a mask, else empty.
   virtual FrameDetections Detect(const cv::Mat& bgr, const std::string& stamp_text) = 0;
 };
+
+// Checks the spec's syntax without opening anything: a known source kind and its ':' argument
+// (plus, for gt, the sequence root and, for onnx-yolo, a model). InputError naming `option`
+// (e.g. "--source", "--detector").
+void CheckDetectionSpec(const std::string& spec, const DetectSourceOptions& options,
+                        const std::string& option = "<source>");
 
 // Throws InputError for an unknown spec, a missing/corrupt folder or model, a wrong model sha256.
 std::unique_ptr<DetectionSource> MakeDetectionSource(const std::string& spec,

@@ -3,6 +3,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 #include <stdexcept>
+#include <string>
 
 namespace dynref {
 
@@ -44,7 +45,10 @@ Similarity3 AlignPoints(const std::vector<Eigen::Vector3d>& est,
   if (U.determinant() * V.determinant() < 0) W(2, 2) = -1;  // reflection guard (Eq. 39)
   S.R = U * W * V.transpose();
   if (mode == AlignMode::kSim3) {
-    if (!(var_est > 0)) throw std::invalid_argument("AlignPoints: estimate points coincide");
+    if (!(var_est > 0))
+      throw std::invalid_argument("--align sim3: all " + std::to_string(est.size()) +
+                                  " associated estimate positions coincide, so no scale can be estimated "
+                                  "(use --align se3 or none)");
     S.scale = (svd.singularValues().asDiagonal() * W).trace() / var_est;  // Eq. (42)
   }
   S.t = mu_gt - S.scale * (S.R * mu_est);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -51,7 +52,11 @@ AteResult ComputeAte(const TumTrajectory& gt, const TumTrajectory& est,
     throw InputError(est.path, "only " + std::to_string(r.matches.size()) +
                                    " associated pair(s) with " + gt.path + "; alignment " +
                                    AlignModeName(options.align) + " needs at least 3");
-  r.alignment = AlignPoints(p_est, p_gt, options.align);
+  try {
+    r.alignment = AlignPoints(p_est, p_gt, options.align);
+  } catch (const std::invalid_argument& e) {  // e.g. sim3 on a constant estimate: name the file
+    throw InputError(est.path, e.what());
+  }
   for (size_t k = 0; k < p_est.size(); ++k)
     r.errors_m.push_back((r.alignment.Apply(p_est[k]) - p_gt[k]).norm());
   r.stats = ComputeErrorStats(r.errors_m);

@@ -1,5 +1,6 @@
 #include "trace/trace_feature.h"
 
+#include <initializer_list>
 #include <set>
 
 #include "trace/trace_dump.h"
@@ -24,6 +25,36 @@ FeatureHistory CollectFeatureHistory(TraceReader& reader, const std::string& id)
     }
   }
   return h;
+}
+
+namespace {
+bool AllDigits(const std::string& s) {
+  if (s.empty()) return false;
+  for (char c : s)
+    if (c < '0' || c > '9') return false;
+  return true;
+}
+// "<prefix><digits>" (dotted: "<prefix><digits>.<digits>") for one of the given prefixes.
+bool PrefixedNumber(const std::string& s, std::initializer_list<const char*> prefixes, bool dotted) {
+  for (const char* p : prefixes) {
+    const std::string prefix(p);
+    if (s.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string rest = s.substr(prefix.size());
+    if (!dotted) return AllDigits(rest);
+    const size_t dot = rest.find('.');
+    return dot != std::string::npos && AllDigits(rest.substr(0, dot)) && AllDigits(rest.substr(dot + 1));
+  }
+  return false;
+}
+bool BaseEntityId(const std::string& s) {
+  return PrefixedNumber(s, {"f", "i", "l", "pl", "r"}, true) || PrefixedNumber(s, {"mp", "kf"}, false);
+}
+}  // namespace
+
+bool IsCanonicalEntityId(const std::string& id) {
+  const size_t at = id.find('@');
+  if (at == std::string::npos) return BaseEntityId(id);
+  return BaseEntityId(id.substr(0, at)) && PrefixedNumber(id.substr(at + 1), {"f", "kf"}, false);
 }
 
 void WriteFeatureTable(const FeatureHistory& history, std::ostream& out) {

@@ -17,6 +17,9 @@ struct FeatureHistory {
 // "mp<N>", observations matched to map point N and every record of those feature observations
 // ("f<frame>.<index>") in the same frame; for "f<frame>.<index>", the observation itself.
 FeatureHistory CollectFeatureHistory(TraceReader& reader, const std::string& id);
+// True for a canonical entity id (README "Canonical entity ids"): f|i|l|pl|r<frame>.<index>,
+// mp|kf<id>, optionally followed by a residual suffix "@f<frame>" or "@kf<id>".
+bool IsCanonicalEntityId(const std::string& id);
 // CSV table: frame,type,stage,kind,entity,occurrence,fields ("name=value" separated by spaces).
 void WriteFeatureTable(const FeatureHistory& history, std::ostream& out);
 

@@ -94,3 +94,23 @@ TEST_CASE("cli: detect exits 2 with a clear message for bad models, corrupt mask
   CHECK(RunDynref("detect --source nanodet " + kSeq).exit_code == 2);  // no --out
   CHECK(RunDynref("detect --help").exit_code == 0);
 }
+
+TEST_CASE("cli: detect rejects out-of-range thresholds and an empty --frames before any work") {
+  using dynref::test::ExpectBadInput;
+  const std::string dir = ScratchDir("detect_cli_thresholds");
+  const std::string img = "--image '" + SourcePath("tests/data/darknet/person.jpg") + "'";
+  ExpectBadInput("detect --source nanodet --conf -1 " + img, "--conf: must be in [0, 1], got -1");
+  ExpectBadInput("detect --source nanodet --conf nan " + img, "--conf: must be in [0, 1], got nan");
+  ExpectBadInput("detect --source nanodet --conf 1.5 " + img, "--conf: must be in [0, 1], got 1.5");
+  ExpectBadInput("detect --source nanodet --nms-iou 2 " + img, "--nms-iou: must be in (0, 1], got 2");
+  ExpectBadInput("detect --source nanodet --max-detections 0 " + img, "--max-detections: must be in 1..65535");
+  ExpectBadInput("detect --source nosuch " + img, "--source: unknown detection source 'nosuch'");
+  ExpectBadInput("detect --source nanodet " + kSeq + " --frames '' --out '" + dir + "/x'",
+                 "--frames: empty value");
+  CHECK_FALSE(fs::exists(dir + "/x"));  // nothing written
+  // The bounds themselves are valid.
+  const auto zero = RunDynref("detect --source nanodet --conf 0 --no-masks " + img);
+  INFO(zero.output);
+  CHECK(zero.exit_code == 0);
+  CHECK(RunDynref("detect --source nanodet --conf 1 --no-masks " + img).exit_code == 0);
+}

@@ -58,3 +58,12 @@ TEST_CASE("alignment: recovers a known rigid transform and a known similarity") 
   CHECK(AlignPoints(est, mirrored, AlignMode::kSE3).R.determinant() == Approx(1.0));
   CHECK_THROWS(AlignPoints({est[0], est[1]}, {gt[0], gt[1]}, AlignMode::kSE3));
 }
+
+TEST_CASE("alignment: sim3 on coincident estimate points says why and what to use instead") {
+  const std::vector<Eigen::Vector3d> est(4, Eigen::Vector3d(1, 2, 3));
+  const std::vector<Eigen::Vector3d> gt = RandomPoints(4, "test.align.coincide");
+  CHECK_THROWS_WITH(AlignPoints(est, gt, AlignMode::kSim3),
+                    Catch::Contains("--align sim3: all 4 associated estimate positions coincide") &&
+                        Catch::Contains("--align se3 or none"));
+  CHECK_NOTHROW(AlignPoints(est, gt, AlignMode::kSE3));  // no scale: a constant estimate is fine
+}

@@ -99,3 +99,16 @@ TEST_CASE("eval cli: --offset and --save-rpe (evaluate_rpe.py --offset / --save)
   CHECK(no_offset.output.find("offset 0 s") != std::string::npos);
   CHECK(no_offset.output.find("translational [m]  rmse 0.000000  mean") == std::string::npos);
 }
+
+TEST_CASE("eval cli: --align sim3 on a constant estimate exits 2 with a clear message") {
+  const std::string d = dynref::test::ScratchDir("eval_cli_sim3_constant");
+  const std::string gt = WriteText(d + "/gt.txt", kTraj);
+  const std::string est = WriteText(d + "/const.txt", "1.0 0.5 0 0 0 0 0 1\n1.03125 0.5 0 0 0 0 0 1\n"
+                                                      "1.0625 0.5 0 0 0 0 0 1\n1.09375 0.5 0 0 0 0 0 1\n"
+                                                      "1.125 0.5 0 0 0 0 0 1\n");
+  ExpectBadInput("eval --gt " + Quote(gt) + " --est " + Quote(est) + " --align sim3",
+                 est + ": --align sim3: all 5 associated estimate positions coincide");
+  const auto se3 = RunDynref("eval --gt " + Quote(gt) + " --est " + Quote(est) + " --delta 1 --delta-unit f");
+  INFO(se3.output);
+  CHECK(se3.exit_code == 0);
+}
