@@ -22,7 +22,7 @@ void RegisterOverlayCommand(CLI::App& root, CommandList& out) {
   app->add_option("--frames", args->frames, "Frames A, A-B or A- (0-based, inclusive; A- = every traced frame from A)")->required();
   app->add_option("--out", args->options.out_dir, "Output folder (default RUN/overlays)");
   app->add_option("--montage", args->options.montage_path, "Also tile all frames into this PNG");
-  app->add_option("--montage-columns", args->options.montage_columns, "Tiles per row (default 3)");
+  app->add_option("--montage-columns", args->options.montage_columns, "Tiles per row (>= 1, default 3)");
   app->add_flag("--gt", args->options.gt,
                 "Ground-truth rings (red = GT dynamic, white = static) from SEQ/gt/");
   out.push_back({app, [args] {

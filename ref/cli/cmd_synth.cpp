@@ -1,6 +1,8 @@
 // `dynref synth`: synthetic dynamic RGB-D sequences with per-pixel ground truth (issue 3);
 // `dynref synth-montage`: a montage PNG of synth folders with the ground truth drawn over them.
+#include <cstdint>
 #include <iostream>
+#include <string>
 
 #include "cli/command.h"
 #include "core/error.h"
@@ -14,19 +16,23 @@ namespace dynref::cli {
 void RegisterSynthCommand(CLI::App& root, CommandList& out) {
   auto opt = std::make_shared<synth::SynthOptions>();
   auto timing = std::make_shared<bool>(false);
+  auto seed = std::make_shared<std::string>(std::to_string(opt->seed));
   std::string presets;
   for (const auto& n : synth::PresetNames()) presets += (presets.empty() ? "" : ", ") + n;
   CLI::App* app = root.add_subcommand("synth", "Generate a synthetic dynamic RGB-D sequence (TUM layout + ground truth)");
   app->add_option("--preset", opt->preset, "Scene/motion preset: " + presets)->required();
-  app->add_option("--frames", opt->frames, "Number of frames (0 = the preset's default, ~700-1260)");
-  app->add_option("--seed", opt->seed, "Seed of every random stream (textures, clothing, noise, detections)");
+  app->add_option("--frames", opt->frames,
+                  "Number of frames (0 = the preset's default, ~700-1260; at most " +
+                      std::to_string(synth::kMaxFrames) + ")");
+  app->add_option("--seed", *seed, "Seed of every random stream (textures, clothing, noise, detections); 0..2^64-1");
   app->add_flag("--blur", opt->blur, "Motion blur: average 8 sub-frame renders over a 33 ms exposure");
   app->add_flag("--low-light", opt->low_light, "Dark, low-contrast, noisier images");
   app->add_option("--detections", opt->detections,
                   "Also write detections/<mode>/: none (default), ideal, yolo-like, sparseinst-like, all");
   app->add_option("--out", opt->out, "Output folder")->required();
   app->add_flag("--timing", *timing, "Print ms/frame (render and total) to stderr");
-  out.push_back({app, [opt, timing] {
+  out.push_back({app, [opt, timing, seed] {
+                   opt->seed = ParseSeed(*seed, "--seed");
                    const synth::SynthStats s = synth::GenerateSequence(*opt);
                    std::cout << "synth: wrote " << s.frames << " frames of " << opt->preset << " to " << opt->out << "\n";
                    if (*timing)

@@ -1,6 +1,11 @@
 // The one place that lists dynref's subcommands (one line per command file).
 #include "cli/command.h"
 
+#include <charconv>
+#include <limits>
+
+#include "core/error.h"
+
 namespace dynref::cli {
 
 void RegisterVersionCommand(CLI::App& root, CommandList& out);
@@ -26,6 +31,18 @@ void RegisterAllCommands(CLI::App& root, CommandList& out) {
   RegisterSynthCommand(root, out);
   RegisterRunCommand(root, out);
   RegisterReproduceCommand(root, out);
+}
+
+uint64_t ParseSeed(const std::string& text, const std::string& option) {
+  uint64_t v = 0;
+  const char* end = text.data() + text.size();
+  const bool digits = !text.empty() && text.find_first_not_of("0123456789") == std::string::npos;
+  const auto [ptr, ec] = std::from_chars(text.data(), end, v);
+  if (!digits || ec != std::errc() || ptr != end)
+    throw InputError(option, "must be an integer in 0.." +
+                                 std::to_string(std::numeric_limits<uint64_t>::max()) + " (got '" +
+                                 text + "')");
+  return v;
 }
 
 }  // namespace dynref::cli

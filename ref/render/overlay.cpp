@@ -5,7 +5,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "io/sequence.h"
@@ -184,9 +187,53 @@ Canvas Montage(const std::vector<Canvas>& tiles, int columns) {
   return m;
 }
 
+namespace {
+
+namespace fs = std::filesystem;
+
+// Renders into a temp folder next to out_dir and moves the PNGs in only when every frame was
+// drawn, so a failure (bad frame, unreadable RGB, disk full) leaves no partial overlays behind.
+// Also removes the parent folders it had to create for that temp folder.
+class StagingDir {
+ public:
+  explicit StagingDir(const std::string& out_dir) {
+    fs::path target = fs::absolute(fs::path(out_dir)).lexically_normal();
+    if (!target.has_filename() && target != target.root_path()) target = target.parent_path();
+    for (fs::path p = target.parent_path(); !p.empty() && !fs::exists(p); p = p.parent_path()) {
+      created_.insert(created_.begin(), p);
+      if (p == p.parent_path()) break;
+    }
+    if (target.has_parent_path()) EnsureDirectory(target.parent_path().string());
+    dir_ = TempPathFor(target.string());
+    std::error_code ec;
+    fs::remove_all(dir_, ec);  // stale temp of a dead process that had our pid
+    EnsureDirectory(dir_);
+  }
+  ~StagingDir() {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+    if (!committed_)
+      for (auto it = created_.rbegin(); it != created_.rend(); ++it) fs::remove(*it, ec);  // only if empty
+  }
+  StagingDir(const StagingDir&) = delete;
+  StagingDir& operator=(const StagingDir&) = delete;
+  const std::string& dir() const { return dir_; }
+  void Committed() { committed_ = true; }
+
+ private:
+  std::string dir_;
+  std::vector<fs::path> created_;  // missing ancestors of out_dir, outermost first
+  bool committed_ = false;
+};
+
+}  // namespace
+
 std::vector<std::string> RenderRunOverlays(const std::string& run_dir, int64_t first, int64_t last,
                                            const OverlayOptions& options) {
+  // Everything that can be checked is checked before any output folder is created.
   if (first > last) throw InputError("--frames", "first frame after last");
+  if (options.montage_columns < 1)
+    throw InputError("--montage-columns", "must be >= 1 (got " + std::to_string(options.montage_columns) + ")");
   const RunInfo info = ReadRunInfo(run_dir);
   trace::TraceReader reader(info.trace_path);
   if (reader.level() != trace::Level::kFull)
@@ -205,18 +252,24 @@ std::vector<std::string> RenderRunOverlays(const std::string& run_dir, int64_t f
     const bool is_dir = ::stat(run_dir.c_str(), &st) == 0 && S_ISDIR(st.st_mode);
     out_dir = (is_dir ? run_dir : std::string(".")) + "/overlays";
   }
-  ::mkdir(out_dir.c_str(), 0755);
+  {
+    std::error_code ec;
+    if (fs::exists(out_dir, ec) && !fs::is_directory(out_dir, ec))
+      throw InputError(out_dir, "exists and is not a directory");
+  }
   const std::vector<OverlayFrame> frames = CollectOverlayFrames(reader, first, last);
   if (frames.empty())
     throw InputError(info.trace_path, "no traced frame in " + std::to_string(first) + "-" +
                                           std::to_string(last));
-  std::vector<std::string> written;
-  std::vector<Canvas> tiles;
-  for (const OverlayFrame& of : frames) {
+  for (const OverlayFrame& of : frames)
     if (of.frame < 0 || of.frame >= static_cast<int64_t>(seq.frames.size()))
       throw InputError(info.trace_path, "frame " + std::to_string(of.frame) + " is not in " +
                                             info.sequence + " (" + std::to_string(seq.frames.size()) +
                                             " frames)");
+  StagingDir staging(out_dir);
+  std::vector<std::string> names;  // "overlay_<frame>.png" in staging.dir()
+  std::vector<Canvas> tiles;
+  for (const OverlayFrame& of : frames) {
     const FrameEntry& fe = seq.frames[static_cast<size_t>(of.frame)];
     const cv::Mat bgr = LoadRgb(seq, fe);
     OverlayFrame shown = of;
@@ -231,15 +284,21 @@ std::vector<std::string> RenderRunOverlays(const std::string& run_dir, int64_t f
     }
     Canvas c = RenderOverlay(bgr, shown, has_det ? &fd : nullptr, gt ? &g : nullptr);
     char name[64];
-    std::snprintf(name, sizeof(name), "/overlay_%06lld.png", static_cast<long long>(of.frame));
-    c.WritePng(out_dir + name);
-    written.push_back(out_dir + name);
+    std::snprintf(name, sizeof(name), "overlay_%06lld.png", static_cast<long long>(of.frame));
+    c.WritePng(staging.dir() + "/" + name);
+    names.push_back(name);
     if (!options.montage_path.empty()) tiles.push_back(std::move(c));
   }
-  if (!options.montage_path.empty()) {
-    Montage(tiles, options.montage_columns).WritePng(options.montage_path);
-    written.push_back(options.montage_path);
+  // All frames rendered: the montage (atomic on its own), then the frames into out_dir.
+  if (!options.montage_path.empty()) Montage(tiles, options.montage_columns).WritePng(options.montage_path);
+  EnsureDirectory(out_dir);
+  std::vector<std::string> written;
+  for (const std::string& name : names) {
+    AtomicRename(staging.dir() + "/" + name, out_dir + "/" + name);
+    written.push_back(out_dir + "/" + name);
   }
+  staging.Committed();
+  if (!options.montage_path.empty()) written.push_back(options.montage_path);
   return written;
 }
 

@@ -3,6 +3,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <fstream>
+#include <string>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -52,8 +53,11 @@ cv::Mat Overlay(const cv::Mat& rgb, const FrameDetections& gt, const cv::Mat& mo
 }  // namespace
 
 void MontageOptions::Check() const {
-  if (frames_per_row < 1 || frames_per_row > 8) throw InputError("--montage-frames", "must be in 1..8");
-  if (tile_width < 64 || tile_width > 640) throw InputError("--montage-width", "must be in 64..640");
+  // Named after the synth-montage options in ref/cli/cmd_synth.cpp.
+  if (frames_per_row < 1 || frames_per_row > 8)
+    throw InputError("--frames-per-row", "must be in 1..8 (got " + std::to_string(frames_per_row) + ")");
+  if (tile_width < 64 || tile_width > 640)
+    throw InputError("--tile-width", "must be in 64..640 (got " + std::to_string(tile_width) + ")");
 }
 
 void WriteMontage(const std::vector<std::string>& dirs, const std::string& out_png, const MontageOptions& opt) {

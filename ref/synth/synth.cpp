@@ -5,6 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <filesystem>
+#include <fstream>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -64,11 +66,76 @@ std::string LabelsYaml(const Scene& scene) {
   return o.str();
 }
 
+namespace fs = std::filesystem;
+
+// The folder a synth run replaces: absolute and normalised, without a trailing separator, so
+// that its temp sibling "<target>.tmp.<pid>" lies next to it (same parent, same filesystem).
+fs::path TargetDir(const std::string& out) {
+  fs::path p = fs::absolute(fs::path(out)).lexically_normal();
+  if (!p.has_filename() && p.has_parent_path() && p != p.root_path()) p = p.parent_path();  // "a/b/" -> "a/b"
+  return p;
+}
+
+// A folder written by dynref synth: its synth.yaml names the generator (written by
+// GenerateSequence below). Like `dynref reproduce`, we only ever replace what we wrote ourselves.
+bool IsSynthOutput(const fs::path& dir) {
+  std::ifstream in(dir / "synth.yaml");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("generator: dynref", 0) == 0) return true;
+  return false;
+}
+
+// InputError (naming the --out folder as given) unless the target is absent, an empty folder or
+// a previous dynref synth output.
+void CheckReplaceable(const fs::path& target, const std::string& shown) {
+  std::error_code ec;
+  const fs::file_status st = fs::symlink_status(target, ec);
+  if (ec || !fs::exists(st)) return;
+  if (!fs::is_directory(fs::status(target, ec)))
+    throw InputError(shown, "exists and is not a directory; refusing to overwrite");
+  if (fs::is_empty(target, ec) && !ec) return;
+  if (!IsSynthOutput(target))
+    throw InputError(shown, "exists and was not written by dynref synth (no synth.yaml naming the generator); "
+                            "refusing to overwrite");
+}
+
+// Removes the temp folder unless the sequence was published (exception or early return).
+struct TempDirGuard {
+  fs::path dir;
+  bool keep = false;
+  ~TempDirGuard() {
+    std::error_code ec;
+    if (!keep) fs::remove_all(dir, ec);
+  }
+};
+
+// Moves the finished temp folder onto target, replacing a previous synth output there.
+void Publish(const fs::path& temp, const fs::path& target, const std::string& shown) {
+  CheckReplaceable(target, shown);  // again: something may have appeared while we rendered
+  std::error_code ec;
+  const bool had_old = fs::exists(fs::symlink_status(target, ec));
+  const fs::path old = TempPathFor(target.string()) + ".old";
+  if (had_old) {
+    fs::remove_all(old, ec);
+    fs::rename(target, old);  // throws filesystem_error naming the paths
+  }
+  try {
+    fs::rename(temp, target);
+  } catch (...) {
+    if (had_old) fs::rename(old, target, ec);  // put the previous output back
+    throw;
+  }
+  if (had_old) fs::remove_all(old, ec);
+}
+
 }  // namespace
 
 void SynthOptions::Check() const {
   GetPreset(preset);  // throws for an unknown preset
   if (frames < 0) throw InputError("--frames", "must be >= 0 (0 = preset default)");
+  if (frames > kMaxFrames)
+    throw InputError("--frames", "must be <= " + std::to_string(kMaxFrames) + " (got " + std::to_string(frames) + ")");
   if (out.empty()) throw InputError("--out", "output directory required");
   if (detections != "none" && detections != "all") ProfileFor(detections);
   if (blur_subframes < 2) throw InputError("blur_subframes", "must be >= 2");
@@ -89,20 +156,31 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
   K.fx = float(camera.fx), K.fy = float(camera.fy), K.cx = float(camera.cx), K.cy = float(camera.cy);
   const SensorModel sensor;
 
-  EnsureDirectory(opt.out);
-  EnsureDirectory(opt.out + "/rgb");
-  EnsureDirectory(opt.out + "/depth");
-  EnsureDirectory(opt.out + "/gt");
-  EnsureDirectory(opt.out + "/gt/motion");
-  DetectionsWriter gt_writer(opt.out + "/gt", "gt", "");
+  // The sequence is built in a sibling temp folder and renamed onto --out only when complete, so a
+  // failed or killed run never leaves a partial sequence (or stale frames of an earlier run) there.
+  const fs::path target = TargetDir(opt.out);
+  CheckReplaceable(target, opt.out);  // refuse before rendering anything
+  if (target.has_parent_path()) EnsureDirectory(target.parent_path().string());
+  TempDirGuard guard{fs::path(TempPathFor(target.string()))};
+  {
+    std::error_code ec;
+    fs::remove_all(guard.dir, ec);  // a stale temp of a dead process that had our pid
+  }
+  const std::string out = guard.dir.string();
+  EnsureDirectory(out);
+  EnsureDirectory(out + "/rgb");
+  EnsureDirectory(out + "/depth");
+  EnsureDirectory(out + "/gt");
+  EnsureDirectory(out + "/gt/motion");
+  DetectionsWriter gt_writer(out + "/gt", "gt", "");
   std::vector<std::string> modes;
   if (opt.detections == "all") modes = {"ideal", "yolo-like", "sparseinst-like"};
   else if (opt.detections != "none") modes = {opt.detections};
   std::vector<std::unique_ptr<DetectionsWriter>> det_writers;
   std::vector<Degrader> degraders;
-  if (!modes.empty()) EnsureDirectory(opt.out + "/detections");
+  if (!modes.empty()) EnsureDirectory(out + "/detections");
   for (const auto& m : modes) {
-    det_writers.push_back(std::make_unique<DetectionsWriter>(opt.out + "/detections/" + m, "synthetic:" + m, ""));
+    det_writers.push_back(std::make_unique<DetectionsWriter>(out + "/detections/" + m, "synthetic:" + m, ""));
     degraders.emplace_back(ProfileFor(m), world.scene().labels, opt.seed, opt.blur);
   }
 
@@ -173,10 +251,10 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
         motion.at<uint8_t>(y, x) = rec && moving[size_t(rec->part)] ? 255 : 0;
       }
 
-    WritePng(opt.out + "/rgb/" + rgb_stamp + ".png", rgb);
-    WritePng(opt.out + "/depth/" + depth_stamp + ".png", depth);
+    WritePng(out + "/rgb/" + rgb_stamp + ".png", rgb);
+    WritePng(out + "/depth/" + depth_stamp + ".png", depth);
     gt_writer.Write(GtDetections(gt, world.scene().labels));
-    WritePng(opt.out + "/gt/motion/" + rgb_stamp + ".png", motion);
+    WritePng(out + "/gt/motion/" + rgb_stamp + ".png", motion);
     for (size_t m = 0; m < modes.size(); ++m) det_writers[m]->Write(degraders[m].Apply(i, gt));
 
     rgb_txt << rgb_stamp << " rgb/" << rgb_stamp << ".png\n";
@@ -188,7 +266,7 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
     moving_txt << '\n';
   }
   // Metadata first, the lists that make the folder readable last.
-  WriteOrbSlamCameraYaml(camera, opt.out + "/camera.yaml");
+  WriteOrbSlamCameraYaml(camera, out + "/camera.yaml");
   std::ostringstream meta;
   meta << "# dynref synth parameters (reproduce with: dynref synth --preset " << opt.preset << " --frames " << n
        << " --seed " << opt.seed << (opt.blur ? " --blur" : "") << (opt.low_light ? " --low-light" : "")
@@ -197,15 +275,17 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
        << "\nseed: " << opt.seed << "\nblur: " << (opt.blur ? "true" : "false")
        << "\nlow_light: " << (opt.low_light ? "true" : "false") << "\ndetections: " << opt.detections
        << "\nblur_subframes: " << opt.blur_subframes << "\nexposure_s: " << FormatDouble17(opt.exposure_s) << "\n";
-  AtomicWriteFile(opt.out + "/synth.yaml", meta.str());
-  AtomicWriteFile(opt.out + "/gt/labels.yaml", LabelsYaml(world.scene()));
-  AtomicWriteFile(opt.out + "/gt/moving.txt", moving_txt.str());
+  AtomicWriteFile(out + "/synth.yaml", meta.str());
+  AtomicWriteFile(out + "/gt/labels.yaml", LabelsYaml(world.scene()));
+  AtomicWriteFile(out + "/gt/moving.txt", moving_txt.str());
   gt_writer.Finish();
   for (auto& w : det_writers) w->Finish();
-  AtomicWriteFile(opt.out + "/depth.txt", depth_txt.str());
-  AtomicWriteFile(opt.out + "/groundtruth.txt", gt_txt.str());
-  AtomicWriteFile(opt.out + "/associations.txt", assoc_txt.str());
-  AtomicWriteFile(opt.out + "/rgb.txt", rgb_txt.str());
+  AtomicWriteFile(out + "/depth.txt", depth_txt.str());
+  AtomicWriteFile(out + "/groundtruth.txt", gt_txt.str());
+  AtomicWriteFile(out + "/associations.txt", assoc_txt.str());
+  AtomicWriteFile(out + "/rgb.txt", rgb_txt.str());
+  Publish(guard.dir, target, opt.out);
+  guard.keep = true;
   SynthStats stats;
   stats.frames = n;
   stats.render_ms_per_frame = render_ms / std::max(1, n);

@@ -7,9 +7,14 @@
 
 namespace dynref::synth {
 
+// Upper bound of --frames: 100000 frames are 55 minutes at 30 Hz, ~40x the longest preset default
+// (~1260) and already ~100 GB of PNGs; a larger count is a typo, not a sequence anyone wants (and
+// it would run for days before failing on a full disk).
+constexpr int kMaxFrames = 100000;
+
 struct SynthOptions {
   std::string preset;             // see PresetNames()
-  int frames = 0;                 // 0 = the preset's default length
+  int frames = 0;                 // 0 = the preset's default length; at most kMaxFrames
   uint64_t seed = 1;
   bool blur = false;              // integrate sub-frame renders over the exposure
   bool low_light = false;
@@ -28,6 +33,9 @@ struct SynthStats {
   double total_cpu_ms_per_frame = 0;  // same, process CPU time (one thread: = one core)
 };
 
+// Builds the sequence in the sibling temp folder "<out>.tmp.<pid>" and renames it onto out only
+// when complete. An existing out is replaced when it is empty or a dynref synth output (has a
+// synth.yaml naming the generator); anything else is refused with an InputError.
 SynthStats GenerateSequence(const SynthOptions& options);
 
 // Timestamp of frame i (seconds, TUM style) and its rendering time t (seconds since frame 0).

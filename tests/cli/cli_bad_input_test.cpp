@@ -64,6 +64,7 @@ TEST_CASE("reproduce sgdo-table6 checks every argument before synthesising anyth
   ExpectBadInput(base + " --sequences static_xyz,bogus", "--sequences: unknown preset 'bogus'");
   ExpectBadInput(base + " --sequences static_xyz,static_xyz", "--sequences: preset 'static_xyz' given twice");
   ExpectBadInput(base0 + " --sequences static_xyz --frames 10", "--frames: need at least 30 frames, got 10");
+  ExpectBadInput(base + " --sequences static_xyz --seed -1", "--seed: must be an integer in 0..");
   const std::string file = WriteText(dir + "/afile", "x\n");
   ExpectBadInput("reproduce sgdo-table6 --sequences static_xyz --work " + Quote(file), "--work: " + file +
                  " exists and is not a directory");

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 
+#include "core/error.h"
 #include "render/feature_plot.h"
 #include "render/overlay.h"
 #include "synthetic_run.h"
@@ -129,4 +130,71 @@ TEST_CASE("feature history and plot of one feature") {
   CHECK(cli.output.find("1,decision,sgdo.epipolar,feature,f1.3,0,kept=0 reason=dynamic") !=
         std::string::npos);
   CHECK(test::RunDynref("trace feature '" + run.run + "' mp9999").exit_code == 1);
+}
+
+TEST_CASE("dynref overlay leaves no partial output when a frame fails or the range is bad") {
+  const std::string dir = test::ScratchDir("render_no_partial");
+  const test::SyntheticRun run = test::MakeSyntheticRun(dir);
+  // Truncate the RGB PNG of frame 1: frame 0 renders fine, frame 1 cannot be read.
+  const std::string rgb1 = run.sequence + "/rgb/1.033333.png";
+  const std::string bytes = test::ReadFileBytes(rgb1);
+  REQUIRE(bytes.size() > 200);
+  std::ofstream(rgb1, std::ios::binary | std::ios::trunc) << bytes.substr(0, 200);
+  const std::string out = dir + "/out/ov";
+  const auto r = test::RunDynref("overlay " + test::Quote(run.run) + " --frames 0-2 --out " + test::Quote(out) +
+                                 " --montage " + test::Quote(dir + "/m.png"));
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("1.033333.png") != std::string::npos);
+  CHECK(!test::FileExists(out + "/overlay_000000.png"));
+  CHECK(!test::FileExists(out));
+  CHECK(!test::FileExists(dir + "/out"));  // the parent it created for its temp folder is gone too
+  CHECK(!test::FileExists(dir + "/m.png"));
+  // Default output folder RUN/overlays: not created either.
+  const auto d = test::RunDynref("overlay " + test::Quote(run.run) + " --frames 0-1");
+  CHECK(d.exit_code == 2);
+  CHECK(!test::FileExists(run.run + "/overlays"));
+  // Nothing left next to the run (no temp folders).
+  int entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(run.run)) {
+    INFO(e.path().string());
+    CHECK(e.path().filename().string().find(".tmp.") == std::string::npos);
+    ++entries;
+  }
+  CHECK(entries > 0);
+  // Bad ranges are rejected before any folder is created.
+  std::ofstream(rgb1, std::ios::binary | std::ios::trunc) << bytes;
+  for (const std::string& frames : {"7-9", "5-2", "x"}) {
+    INFO(frames);
+    CHECK(test::RunDynref("overlay " + test::Quote(run.run) + " --frames " + frames + " --out " +
+                          test::Quote(dir + "/bad")).exit_code == 2);
+    CHECK(!test::FileExists(dir + "/bad"));
+  }
+  // Re-rendering into an existing folder keeps its other files and replaces the overlays.
+  REQUIRE(test::RunShell("mkdir -p " + test::Quote(dir + "/keep") + " && echo mine > " +
+                         test::Quote(dir + "/keep/notes.txt")).exit_code == 0);
+  const auto ok = test::RunDynref("overlay " + test::Quote(run.run) + " --frames 0-1 --out " + test::Quote(dir + "/keep"));
+  INFO(ok.output);
+  CHECK(ok.exit_code == 0);
+  CHECK(test::FileExists(dir + "/keep/overlay_000000.png"));
+  CHECK(test::FileExists(dir + "/keep/overlay_000001.png"));
+  CHECK(test::FileExists(dir + "/keep/notes.txt"));
+}
+
+TEST_CASE("dynref overlay rejects --montage-columns below 1") {
+  const std::string dir = test::ScratchDir("render_montage_columns");
+  const test::SyntheticRun run = test::MakeSyntheticRun(dir);
+  for (const std::string& cols : {"0", "-3"}) {
+    INFO(cols);
+    test::ExpectBadInput("overlay " + test::Quote(run.run) + " --frames 0-1 --out " + test::Quote(dir + "/ov") +
+                             " --montage " + test::Quote(dir + "/m.png") + " --montage-columns " + cols,
+                         "--montage-columns");
+    CHECK(!test::FileExists(dir + "/ov"));
+    CHECK(!test::FileExists(dir + "/m.png"));
+  }
+  render::OverlayOptions o;
+  o.out_dir = dir + "/lib";
+  o.montage_columns = 0;
+  CHECK_THROWS_AS(render::RenderRunOverlays(run.run, 0, 1, o), InputError);
+  CHECK(!test::FileExists(dir + "/lib"));
 }

@@ -8,6 +8,8 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "core/error.h"
 #include "io/mask_format.h"
@@ -159,4 +161,99 @@ TEST_CASE("synth: CLI writes a sequence that dynref info reads and bad arguments
   INFO(m.output);
   CHECK(m.exit_code == 0);
   CHECK(!cv::imread(dir + "/m.png").empty());
+}
+
+namespace {
+
+// Names of the entries of dir (not recursive), or empty when dir cannot be opened.
+std::vector<std::string> Entries(const std::string& dir) {
+  std::vector<std::string> names;
+  DIR* d = ::opendir(dir.c_str());
+  if (!d) return names;
+  while (dirent* e = ::readdir(d)) {
+    const std::string name = e->d_name;
+    if (name != "." && name != "..") names.push_back(name);
+  }
+  ::closedir(d);
+  return names;
+}
+
+}  // namespace
+
+TEST_CASE("synth replaces an earlier synth output as a whole and leaves no temp folder") {
+  const std::string dir = dynref::test::ScratchDir("synth_replace");
+  const std::string out = dir + "/seq";
+  GenerateSequence(Options("walking_xyz", 5, out));
+  REQUIRE(Entries(out + "/rgb").size() == 5);
+  // Same folder, fewer frames (and the trailing-slash spelling): no stale frames of the first run.
+  GenerateSequence(Options("walking_xyz", 2, out + "/"));
+  CHECK(Entries(out + "/rgb").size() == 2);
+  CHECK(Entries(out + "/depth").size() == 2);
+  CHECK(Entries(out + "/gt/motion").size() == 2);
+  const dynref::Sequence seq = dynref::OpenSequence(out);
+  CHECK(seq.frames.size() == 2);
+  CHECK(dynref::DetectionsReader(out + "/gt").Stamps().size() == 2);
+  // Only the target next to it: the temp folder "<seq>.tmp.<pid>" was renamed onto it.
+  CHECK(Entries(dir) == std::vector<std::string>{"seq"});
+  for (const std::string& name : Entries(out)) CHECK(name.find(".tmp.") == std::string::npos);
+  // The bytes do not depend on the target having existed before.
+  const std::string fresh = dynref::test::ScratchDir("synth_replace_fresh") + "/seq";
+  GenerateSequence(Options("walking_xyz", 2, fresh));
+  std::map<std::string, std::string> ta, tb;
+  ReadTree(out, "", &ta);
+  ReadTree(fresh, "", &tb);
+  CHECK(ta == tb);
+}
+
+TEST_CASE("synth refuses to overwrite a folder it did not write, exit 2") {
+  const std::string dir = dynref::test::ScratchDir("synth_refuse");
+  const std::string other = dir + "/photos";
+  REQUIRE(dynref::test::RunShell("mkdir -p " + dynref::test::Quote(other) + " && echo keep > " +
+                                 dynref::test::Quote(other + "/notes.txt")).exit_code == 0);
+  dynref::test::ExpectBadInput("synth --preset walking_xyz --frames 1 --out " + dynref::test::Quote(other),
+                               "was not written by dynref synth");
+  CHECK(dynref::test::ReadFileBytes(other + "/notes.txt") == "keep\n");
+  CHECK(Entries(other).size() == 1);
+  CHECK(Entries(dir).size() == 1);  // no temp folder left next to it
+  // A plain file in the way is refused too.
+  dynref::test::WriteText(dir + "/file", "x");
+  dynref::test::ExpectBadInput("synth --preset walking_xyz --frames 1 --out " + dynref::test::Quote(dir + "/file"),
+                               "not a directory");
+  CHECK(dynref::test::ReadFileBytes(dir + "/file") == "x");
+  CHECK_THROWS_AS(GenerateSequence(Options("walking_xyz", 1, other)), dynref::InputError);
+}
+
+TEST_CASE("synth rejects negative or overflowing seeds and absurd frame counts, exit 2") {
+  const std::string dir = dynref::test::ScratchDir("synth_ranges");
+  const std::string base = "synth --preset walking_xyz --frames 1 --out " + dynref::test::Quote(dir + "/s");
+  for (const char* seed : {"-1", "99999999999999999999999", "18446744073709551616", "12x", "''", "+3"}) {
+    INFO(seed);
+    dynref::test::ExpectBadInput(base + " --seed " + seed, "--seed");
+    CHECK(!dynref::test::FileExists(dir + "/s"));
+  }
+  dynref::test::ExpectBadInput("synth --preset walking_xyz --frames 2000000000 --out " + dynref::test::Quote(dir + "/f"),
+                               "--frames: must be <= 100000");
+  CHECK(!dynref::test::FileExists(dir + "/f"));
+  CHECK_THROWS_AS(GenerateSequence(Options("walking_xyz", dynref::synth::kMaxFrames + 1, dir + "/g")),
+                  dynref::InputError);
+  // The largest seed is accepted and written as given.
+  const auto r = dynref::test::RunDynref(base + " --seed 18446744073709551615");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK(dynref::test::ReadFileBytes(dir + "/s/synth.yaml").find("\nseed: 18446744073709551615\n") != std::string::npos);
+}
+
+TEST_CASE("synth-montage errors name its real options --frames-per-row and --tile-width") {
+  const std::string dir = dynref::test::ScratchDir("synth_montage_opts");
+  GenerateSequence(Options("walking_xyz", 1, dir + "/wx"));
+  const std::string base = "synth-montage " + dynref::test::Quote(dir + "/wx") + " --out " + dynref::test::Quote(dir + "/m.png");
+  for (const std::string bad : {"--frames-per-row 0", "--frames-per-row 9", "--tile-width 10", "--tile-width 641"}) {
+    INFO(bad);
+    const auto r = dynref::test::RunDynref(base + " " + bad);
+    INFO(r.output);
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find(bad.substr(0, bad.find(' ')) + ": must be in") != std::string::npos);
+    CHECK(r.output.find("--montage-") == std::string::npos);
+    CHECK(!dynref::test::FileExists(dir + "/m.png"));
+  }
 }
