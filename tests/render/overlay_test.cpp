@@ -164,7 +164,7 @@ TEST_CASE("dynref overlay leaves no partial output when a frame fails or the ran
   CHECK(entries > 0);
   // Bad ranges are rejected before any folder is created.
   std::ofstream(rgb1, std::ios::binary | std::ios::trunc) << bytes;
-  for (const std::string& frames : {"7-9", "5-2", "x"}) {
+  for (const std::string frames : {"7-9", "5-2", "x"}) {
     INFO(frames);
     CHECK(test::RunDynref("overlay " + test::Quote(run.run) + " --frames " + frames + " --out " +
                           test::Quote(dir + "/bad")).exit_code == 2);
@@ -184,7 +184,7 @@ TEST_CASE("dynref overlay leaves no partial output when a frame fails or the ran
 TEST_CASE("dynref overlay rejects --montage-columns below 1") {
   const std::string dir = test::ScratchDir("render_montage_columns");
   const test::SyntheticRun run = test::MakeSyntheticRun(dir);
-  for (const std::string& cols : {"0", "-3"}) {
+  for (const std::string cols : {"0", "-3"}) {
     INFO(cols);
     test::ExpectBadInput("overlay " + test::Quote(run.run) + " --frames 0-1 --out " + test::Quote(dir + "/ov") +
                              " --montage " + test::Quote(dir + "/m.png") + " --montage-columns " + cols,
