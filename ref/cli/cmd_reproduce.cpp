@@ -277,17 +277,6 @@ void CheckPresetList(const std::vector<std::string>& presets, const std::string&
   }
 }
 
-void CheckNotAFile(const std::string& path, const std::string& option) {
-  for (fs::path p = path; !p.empty(); p = p.parent_path()) {
-    std::error_code ec;
-    if (fs::exists(p, ec)) {
-      if (!fs::is_directory(p, ec)) throw InputError(option, p.string() + " exists and is not a directory");
-      return;
-    }
-    if (p == p.parent_path()) return;
-  }
-}
-
 void CheckTable6Args(const Table6Args& a) {
   if (a.frames < 30) throw InputError("--frames", "need at least 30 frames, got " + std::to_string(a.frames));
   const std::vector<std::string> modes = {"ideal", "yolo-like", "sparseinst-like"};
@@ -300,8 +289,8 @@ void CheckTable6Args(const Table6Args& a) {
   if (a.work.empty()) throw InputError("--work", "empty folder path");
   std::error_code ec;
   if (fs::is_directory(a.out, ec)) throw InputError("--out", a.out + " is a directory (give the report's file name)");
-  CheckNotAFile(fs::path(a.out).parent_path().string(), "--out");
-  CheckNotAFile(a.work, "--work");
+  CheckDirectoryPath(fs::path(a.out).parent_path().string(), "--out");
+  CheckDirectoryPath(a.work, "--work");
 }
 
 int RunTable6(const Table6Args& a) {

@@ -3,12 +3,10 @@
 // (unknown method/config error, unreadable sequence, fewer than 2 frames, an unreadable frame
 // mid-run, never initialised). Outputs written before a mid-run error stay complete and
 // run.json/trace record the end state.
-#include <filesystem>
 #include <iostream>
 
 #include "cli/command.h"
 #include "core/error.h"
-#include "detect/detection_source.h"
 #include "pipeline/pipeline.h"
 
 namespace dynref::cli {
@@ -29,27 +27,11 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
   app->add_flag("--overlays", opts->overlays, "render RUN/overlays/overlay_<frame>.png after the run");
   app->add_flag("!--no-progress", opts->progress, "no progress line on stderr");
   out.push_back({app, [opts, frames, frames_opt] {
-                   // Every argument is checked before the run opens anything.
+                   // --frames here; everything else in RunOptions::Check before the run opens anything.
                    if (frames_opt->count()) {
                      if (frames->empty())
                        throw InputError("--frames", "empty value (give A, A-B or A-; omit --frames for all frames)");
                      opts->frames = ParseFrameRange(*frames);
-                   }
-                   if (!opts->detector.empty()) {
-                     DetectSourceOptions dopt;
-                     dopt.sequence_root = opts->sequence;
-                     CheckDetectionSpec(opts->detector, dopt, "--detector");
-                   }
-                   // --out (or the first existing folder above it) must be a directory.
-                   for (std::filesystem::path p = opts->out_dir; !p.empty(); p = p.parent_path()) {
-                     std::error_code ec;
-                     if (!std::filesystem::exists(p, ec)) {
-                       if (p == p.parent_path()) break;
-                       continue;
-                     }
-                     if (!std::filesystem::is_directory(p, ec))
-                       throw InputError("--out", p.string() + " exists and is not a directory");
-                     break;
                    }
                    const RunResult r = RunSequence(*opts);
                    std::cout << "dynref run: " << r.frames << " frames, " << r.tracked << " tracked, " << r.lost

@@ -3,6 +3,7 @@
 #pragma once
 #include <fstream>
 #include <string>
+#include <vector>
 
 namespace dynref {
 
@@ -37,5 +38,34 @@ void EnsureDirectory(const std::string& dir);
 
 // Temp name used for path: "<path>.tmp.<pid>".
 std::string TempPathFor(const std::string& path);
+
+// InputError(option, "<p> exists and is not a directory") when `path`, or its nearest existing
+// ancestor if `path` does not exist yet, is not a directory (so creating it would fail).
+void CheckDirectoryPath(const std::string& path, const std::string& option);
+
+// A folder of outputs that must appear complete or not at all: they are written into the temp
+// sibling dir() = "<target>.tmp.<pid>" and moved onto target() (absolute, normalised, no
+// trailing separator) by the caller. The constructor creates target's missing parents and a
+// fresh dir() (a stale one of a dead process with our pid is removed). The destructor removes
+// dir(); unless Commit() was called it also removes the parents it created (when empty).
+class StagingDirectory {
+ public:
+  explicit StagingDirectory(const std::string& target);
+  ~StagingDirectory();
+  StagingDirectory(const StagingDirectory&) = delete;
+  StagingDirectory& operator=(const StagingDirectory&) = delete;
+
+  const std::string& target() const { return target_; }
+  const std::string& dir() const { return dir_; }
+  void Commit() { committed_ = true; }
+
+  // target as StagingDirectory normalises it (callers may check it before staging).
+  static std::string NormalisedTarget(const std::string& target);
+
+ private:
+  std::string target_, dir_;
+  std::vector<std::string> created_parents_;  // outermost first
+  bool committed_ = false;
+};
 
 }  // namespace dynref

@@ -77,6 +77,12 @@ void RunStages(std::vector<std::unique_ptr<Stage>>& stages, Hook hook, StageCont
 void RunOptions::Check() const {
   if (sequence.empty()) throw InputError("dynref run", "--sequence is required");
   if (out_dir.empty()) throw InputError("dynref run", "--out is required");
+  CheckDirectoryPath(out_dir, "--out");
+  if (!detector.empty()) {
+    DetectSourceOptions d;
+    d.sequence_root = sequence;
+    CheckDetectionSpec(detector, d, "--detector");
+  }
   if (frames.first < 0 || (!frames.open_ended() && frames.last < frames.first))
     throw InputError("dynref run", "--frames: need 0 <= A <= B");
   if (!detections_dir.empty() && !detector.empty())

@@ -187,47 +187,6 @@ Canvas Montage(const std::vector<Canvas>& tiles, int columns) {
   return m;
 }
 
-namespace {
-
-namespace fs = std::filesystem;
-
-// Renders into a temp folder next to out_dir and moves the PNGs in only when every frame was
-// drawn, so a failure (bad frame, unreadable RGB, disk full) leaves no partial overlays behind.
-// Also removes the parent folders it had to create for that temp folder.
-class StagingDir {
- public:
-  explicit StagingDir(const std::string& out_dir) {
-    fs::path target = fs::absolute(fs::path(out_dir)).lexically_normal();
-    if (!target.has_filename() && target != target.root_path()) target = target.parent_path();
-    for (fs::path p = target.parent_path(); !p.empty() && !fs::exists(p); p = p.parent_path()) {
-      created_.insert(created_.begin(), p);
-      if (p == p.parent_path()) break;
-    }
-    if (target.has_parent_path()) EnsureDirectory(target.parent_path().string());
-    dir_ = TempPathFor(target.string());
-    std::error_code ec;
-    fs::remove_all(dir_, ec);  // stale temp of a dead process that had our pid
-    EnsureDirectory(dir_);
-  }
-  ~StagingDir() {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-    if (!committed_)
-      for (auto it = created_.rbegin(); it != created_.rend(); ++it) fs::remove(*it, ec);  // only if empty
-  }
-  StagingDir(const StagingDir&) = delete;
-  StagingDir& operator=(const StagingDir&) = delete;
-  const std::string& dir() const { return dir_; }
-  void Committed() { committed_ = true; }
-
- private:
-  std::string dir_;
-  std::vector<fs::path> created_;  // missing ancestors of out_dir, outermost first
-  bool committed_ = false;
-};
-
-}  // namespace
-
 std::vector<std::string> RenderRunOverlays(const std::string& run_dir, int64_t first, int64_t last,
                                            const OverlayOptions& options) {
   // Everything that can be checked is checked before any output folder is created.
@@ -254,7 +213,7 @@ std::vector<std::string> RenderRunOverlays(const std::string& run_dir, int64_t f
   }
   {
     std::error_code ec;
-    if (fs::exists(out_dir, ec) && !fs::is_directory(out_dir, ec))
+    if (std::filesystem::exists(out_dir, ec) && !std::filesystem::is_directory(out_dir, ec))
       throw InputError(out_dir, "exists and is not a directory");
   }
   const std::vector<OverlayFrame> frames = CollectOverlayFrames(reader, first, last);
@@ -266,7 +225,9 @@ std::vector<std::string> RenderRunOverlays(const std::string& run_dir, int64_t f
       throw InputError(info.trace_path, "frame " + std::to_string(of.frame) + " is not in " +
                                             info.sequence + " (" + std::to_string(seq.frames.size()) +
                                             " frames)");
-  StagingDir staging(out_dir);
+  // Rendered into a staging folder; the PNGs move in only when every frame was drawn, so a
+  // failure (bad frame, unreadable RGB, disk full) leaves no partial overlays behind.
+  StagingDirectory staging(out_dir);
   std::vector<std::string> names;  // "overlay_<frame>.png" in staging.dir()
   std::vector<Canvas> tiles;
   for (const OverlayFrame& of : frames) {
@@ -297,7 +258,7 @@ std::vector<std::string> RenderRunOverlays(const std::string& run_dir, int64_t f
     AtomicRename(staging.dir() + "/" + name, out_dir + "/" + name);
     written.push_back(out_dir + "/" + name);
   }
-  staging.Committed();
+  staging.Commit();
   if (!options.montage_path.empty()) written.push_back(options.montage_path);
   return written;
 }

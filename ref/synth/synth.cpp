@@ -68,14 +68,6 @@ std::string LabelsYaml(const Scene& scene) {
 
 namespace fs = std::filesystem;
 
-// The folder a synth run replaces: absolute and normalised, without a trailing separator, so
-// that its temp sibling "<target>.tmp.<pid>" lies next to it (same parent, same filesystem).
-fs::path TargetDir(const std::string& out) {
-  fs::path p = fs::absolute(fs::path(out)).lexically_normal();
-  if (!p.has_filename() && p.has_parent_path() && p != p.root_path()) p = p.parent_path();  // "a/b/" -> "a/b"
-  return p;
-}
-
 // A folder written by dynref synth: its synth.yaml names the generator (written by
 // GenerateSequence below). Like `dynref reproduce`, we only ever replace what we wrote ourselves.
 bool IsSynthOutput(const fs::path& dir) {
@@ -99,16 +91,6 @@ void CheckReplaceable(const fs::path& target, const std::string& shown) {
     throw InputError(shown, "exists and was not written by dynref synth (no synth.yaml naming the generator); "
                             "refusing to overwrite");
 }
-
-// Removes the temp folder unless the sequence was published (exception or early return).
-struct TempDirGuard {
-  fs::path dir;
-  bool keep = false;
-  ~TempDirGuard() {
-    std::error_code ec;
-    if (!keep) fs::remove_all(dir, ec);
-  }
-};
 
 // Moves the finished temp folder onto target, replacing a previous synth output there.
 void Publish(const fs::path& temp, const fs::path& target, const std::string& shown) {
@@ -158,15 +140,10 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
 
   // The sequence is built in a sibling temp folder and renamed onto --out only when complete, so a
   // failed or killed run never leaves a partial sequence (or stale frames of an earlier run) there.
-  const fs::path target = TargetDir(opt.out);
+  const fs::path target = StagingDirectory::NormalisedTarget(opt.out);
   CheckReplaceable(target, opt.out);  // refuse before rendering anything
-  if (target.has_parent_path()) EnsureDirectory(target.parent_path().string());
-  TempDirGuard guard{fs::path(TempPathFor(target.string()))};
-  {
-    std::error_code ec;
-    fs::remove_all(guard.dir, ec);  // a stale temp of a dead process that had our pid
-  }
-  const std::string out = guard.dir.string();
+  StagingDirectory staging(target.string());
+  const std::string out = staging.dir();
   EnsureDirectory(out);
   EnsureDirectory(out + "/rgb");
   EnsureDirectory(out + "/depth");
@@ -284,8 +261,8 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
   AtomicWriteFile(out + "/groundtruth.txt", gt_txt.str());
   AtomicWriteFile(out + "/associations.txt", assoc_txt.str());
   AtomicWriteFile(out + "/rgb.txt", rgb_txt.str());
-  Publish(guard.dir, target, opt.out);
-  guard.keep = true;
+  Publish(staging.dir(), target, opt.out);
+  staging.Commit();
   SynthStats stats;
   stats.frames = n;
   stats.render_ms_per_frame = render_ms / std::max(1, n);
