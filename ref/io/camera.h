@@ -4,6 +4,8 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "core/intrinsics.h"
+
 namespace dynref {
 
 struct Camera {
@@ -19,6 +21,8 @@ struct Camera {
   cv::Matx33d K() const { return {fx, 0, cx, 0, fy, cy, 0, 0, 1}; }
   cv::Mat DistCoeffs() const { return (cv::Mat_<double>(1, 5) << k1, k2, p1, p2, k3); }
   double baseline_m() const { return bf / fx; }
+  // The pinhole part (core/intrinsics.h): fx, fy, cx, cy, bf, width, height.
+  Intrinsics Pinhole() const { return {fx, fy, cx, cy, bf, width, height}; }
 };
 
 // Presets: "tum_fr1", "tum_fr2", "tum_fr3", "bonn", "synthetic" (= TUM fr3 intrinsics, no distortion).

@@ -9,6 +9,24 @@
 
 namespace dynref {
 
+const char* LandmarkTypeName(LandmarkType t) {
+  switch (t) {
+    case LandmarkType::kPoint: return "point";
+    case LandmarkType::kLine: return "line";
+    case LandmarkType::kPlane: return "plane";
+  }
+  return "?";
+}
+
+const char* LandmarkEventName(LandmarkEvent::Kind k) {
+  switch (k) {
+    case LandmarkEvent::Kind::kCreated: return "created";
+    case LandmarkEvent::Kind::kReplaced: return "replaced";
+    case LandmarkEvent::Kind::kCulled: return "culled";
+  }
+  return "?";
+}
+
 int MapPoint::PredictScale(float distance, const ScalePyramid& pyr) const {
   // ORB-SLAM2 MapPoint::PredictScale.
   const float ratio = max_distance / distance;
@@ -70,6 +88,7 @@ MapPoint* Map::NewMapPoint(const Eigen::Vector3d& X_w, int64_t ref_kf, int frame
   p->first_frame = frame_index;
   MapPoint* raw = p.get();
   points[raw->id] = std::move(p);
+  Notify(LandmarkEvent::Kind::kCreated, raw->id);
   return raw;
 }
 
@@ -125,6 +144,7 @@ void Map::SetBadPoint(int64_t mp_id) {
   }
   p->observations.clear();
   p->n_obs = 0;
+  Notify(LandmarkEvent::Kind::kCulled, mp_id);
 }
 
 void Map::ReplacePoint(int64_t mp_id, int64_t by_id) {
@@ -151,6 +171,20 @@ void Map::ReplacePoint(int64_t mp_id, int64_t by_id) {
   by->found += p->found;
   by->visible += p->visible;
   UpdatePointDescriptor(by_id);
+  Notify(LandmarkEvent::Kind::kReplaced, mp_id, by_id);
+}
+
+void Map::RemoveObserver(LandmarkObserver* observer) {
+  observers_.erase(std::remove(observers_.begin(), observers_.end(), observer), observers_.end());
+}
+
+void Map::Notify(LandmarkEvent::Kind kind, int64_t mp_id, int64_t by_id) {
+  if (observers_.empty()) return;
+  LandmarkEvent e;
+  e.kind = kind;
+  e.landmark = {LandmarkType::kPoint, mp_id};
+  e.by_id = by_id;
+  for (LandmarkObserver* o : observers_) o->OnLandmarkEvent(e);
 }
 
 void Map::SetBadKeyFrame(int64_t kf_id) {

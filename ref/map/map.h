@@ -11,6 +11,7 @@
 
 #include "core/se3.h"
 #include "map/frame.h"
+#include "map/landmark.h"
 
 namespace dynref {
 
@@ -29,6 +30,7 @@ class MapPoint {
   int visible = 1, found = 1;   // ORB-SLAM2 mnVisible / mnFound
   bool bad = false;
   int64_t replaced_by = -1;
+  LandmarkDynamicState dynamic;  // a method's p(dynamic) of this point (landmark.h)
   // tracking scratch (ORB-SLAM2 mnTrackReferenceForFrame, mnLastFrameSeen, projection)
   int track_ref_frame = -1, last_seen_frame = -1;
   int64_t fuse_candidate_kf = -1;
@@ -99,7 +101,15 @@ class Map {
   // Recomputes covisibility weights of kf (>= 15 shared points, else the best one).
   void UpdateConnections(int64_t kf_id);
 
+  // ---- landmark lifecycle events (landmark.h) ----
+  // Observers are called in registration order, synchronously, when a point is created, replaced
+  // or set bad; they must not modify the map. Not owned.
+  void AddObserver(LandmarkObserver* observer) { observers_.push_back(observer); }
+  void RemoveObserver(LandmarkObserver* observer);
+
  private:
+  void Notify(LandmarkEvent::Kind kind, int64_t mp_id, int64_t by_id = -1);
+  std::vector<LandmarkObserver*> observers_;
   int64_t next_kf_id_ = 0;
   int64_t next_mp_id_ = 0;
 };

@@ -99,6 +99,7 @@ std::vector<std::pair<int, int>> SearchForTriangulation(const KeyFrame& k1, cons
 void LocalMapperOptions::Check() const {
   if (covisible_for_triangulation < 1) throw InputError("local mapper options", "covisible_for_triangulation must be >= 1");
   if (!(redundancy > 0 && redundancy <= 1)) throw InputError("local mapper options", "redundancy must be in (0, 1]");
+  ba.Check();
 }
 
 LocalMapper::LocalMapper(Map& map, const Camera& camera, const LocalMapperOptions& options, trace::TraceWriter& trace)
@@ -365,10 +366,10 @@ int LocalMapper::LocalBundleAdjustment(KeyFrame& kf, double* ms) {
     }
   }
   ++ba_calls_;
-  const optim::Intrinsics K{camera_.fx, camera_.fy, camera_.cx, camera_.cy, camera_.bf};
+  const Intrinsics K = camera_.Pinhole();
   timespec c0{}, c1{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c0);  // CPU time of this (single) thread
-  const optim::LocalBAResult r = optim::LocalBundleAdjust(K, kfs, pts, obs, optim::LocalBAOptions{}, &trace_,
+  const optim::LocalBAResult r = optim::LocalBundleAdjust(K, kfs, pts, obs, options_.ba, &trace_,
                                                           "localba#" + std::to_string(ba_calls_));
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
   *ms = (c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "map/map.h"
+#include "optim/optim.h"
 #include "trace/trace_writer.h"
 
 namespace dynref::mapping {
@@ -18,6 +19,7 @@ struct LocalMapperOptions {
   bool local_ba = true;
   bool keyframe_culling = true;
   double redundancy = 0.9;               // ORB-SLAM2 KeyFrameCulling: > 90 % redundant
+  optim::LocalBAOptions ba;              // ORB-SLAM2 Optimizer::LocalBundleAdjustment (5 + 10 iterations)
   void Check() const;
 };
 

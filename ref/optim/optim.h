@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "core/intrinsics.h"
 #include "core/se3.h"
 
 namespace dynref::trace {
@@ -33,10 +34,9 @@ class TraceWriter;
 
 namespace dynref::optim {
 
-struct Intrinsics {
-  double fx = 0, fy = 0, cx = 0, cy = 0;
-  double bf = 0;  // ORB-SLAM2 Camera.bf (baseline * fx); only used through u_right
-};
+// The shared pinhole type (core/intrinsics.h); bf (ORB-SLAM2 Camera.bf = baseline * fx) is only
+// used through u_right.
+using Intrinsics = dynref::Intrinsics;
 
 // One observation of a fixed 3-D point in the camera being optimised.
 struct PoseObservation {

@@ -13,32 +13,6 @@
 namespace dynref {
 namespace {
 
-struct Default {
-  const char* key;
-  const char* value;
-  const char* source;
-};
-
-// ORB-SLAM2 defaults (Examples/RGB-D/TUM*.yaml and src/Tracking.cc).
-const Default kBackboneDefaults[] = {
-    {"n_features", "1000", "default: ORB-SLAM2 TUM RGB-D settings ORBextractor.nFeatures"},
-    {"scale_factor", "1.2", "default: ORB-SLAM2 ORBextractor.scaleFactor"},
-    {"n_levels", "8", "default: ORB-SLAM2 ORBextractor.nLevels"},
-    {"ini_th_fast", "20", "default: ORB-SLAM2 ORBextractor.iniThFAST"},
-    {"min_th_fast", "7", "default: ORB-SLAM2 ORBextractor.minThFAST"},
-    {"min_init_points", "500", "default: ORB-SLAM2 Tracking::StereoInitialization N > 500"},
-    {"max_frames", "30", "default: ORB-SLAM2 mMaxFrames = Camera.fps (30)"},
-    {"reloc_recent_keyframes", "10",
-     "not stated: dynref has no BoW database; relocalisation tries the 10 most recent keyframes"},
-    {"local_ba", "true", "default: ORB-SLAM2 local mapping runs local BA"},
-    {"keyframe_culling", "true", "default: ORB-SLAM2 LocalMapping::KeyFrameCulling"},
-    {"seed", "1", "not stated: seed of dynref's named RNG streams (relocalisation RANSAC)"},
-    {"camera_rgb_flag", "true",
-     "default: ORB-SLAM2 TUM1-3.yaml Camera.RGB: 1 applied to cv::imread's BGR images "
-     "(Tracking::GrabImageRGBD converts with CV_RGB2GRAY, so blue gets red's weight); "
-     "false = luminance of the true colours (COLOR_BGR2GRAY)"},
-};
-
 int LineOf(const YAML::Node& n) { return n.Mark().line >= 0 ? n.Mark().line + 1 : 0; }
 
 // yaml-cpp keeps both entries of a key given twice (lookups see the first, iteration both):
@@ -134,63 +108,12 @@ MethodConfig LoadMethodConfig(const std::string& path) {
     for (const auto& kv : b) {
       const std::string k = kv.first.as<std::string>();
       bool known = false;
-      for (const Default& d : kBackboneDefaults) known = known || k == d.key;
+      for (const BackboneKeyInfo& d : BackboneKeys()) known = known || k == d.key;
       if (!known) throw InputError(path, LineOf(kv.first), "unknown backbone key '" + k + "'");
       given[k] = ReadParam(kv.second, k, path);
     }
   }
-  for (const Default& d : kBackboneDefaults) {
-    auto it = given.find(d.key);
-    if (it != given.end()) {
-      cfg.backbone.params[d.key] = it->second;
-    } else {
-      Param p;
-      p.value = d.value;
-      p.source = d.source;
-      p.file = path;
-      cfg.backbone.params[d.key] = p;
-    }
-  }
-  // Validate backbone values (typed access throws InputError naming file:line).
-  const BackboneConfig& bb = cfg.backbone;
-  auto bad = [&](const char* key, const std::string& what) {
-    const Param& p = bb.params.at(key);
-    throw InputError(p.file, p.line, std::string("backbone.") + key + ": " + what);
-  };
-  // Integer keys: the range is checked on the number before the int conversion (a value past
-  // the int range would wrap, and some size allocations), then AsInt() checks it is integral.
-  auto int_in = [&](const char* key, double lo, double hi) {
-    const Param& p = bb.params.at(key);
-    const double v = p.AsDouble();
-    if (!(v >= lo && v <= hi))
-      bad(key, "must be in " + std::to_string(static_cast<int64_t>(lo)) + ".." +
-                   std::to_string(static_cast<int64_t>(hi)) + ", got " + p.value);
-    (void)p.AsInt();
-  };
-  // The ORB extractor reserves 10 * n_features candidate keypoints per level (int arithmetic)
-  // and the frame sizes its keypoint/descriptor arrays by it; 100000 is 100x the ORB-SLAM2
-  // default, far more corners than a 640x480 pyramid yields.
-  int_in("n_features", 1, 100000);
-  if (!(bb.scale_factor() > 1)) bad("scale_factor", "must be > 1");
-  // Sizes the image pyramid (one image and scale per level); 16 as OrbOptions::Check.
-  int_in("n_levels", 1, 16);
-  // FAST thresholds are intensity differences on 8-bit images: nothing passes above 255.
-  int_in("ini_th_fast", 1, 255);
-  int_in("min_th_fast", 1, 255);
-  if (bb.min_th_fast() > bb.ini_th_fast())
-    bad("min_th_fast", "need 1 <= min_th_fast <= ini_th_fast");
-  // Compared with the number of features with depth (at most n_features, bounded above).
-  int_in("min_init_points", 1, 100000);
-  // Added to frame indices (int) in the keyframe and relocalisation decisions; 100000 frames
-  // (55 min at 30 fps) keeps the sums far from overflow.
-  int_in("max_frames", 1, 100000);
-  // Number of relocalisation candidate keyframes, each tried with a RANSAC.
-  int_in("reloc_recent_keyframes", 1, 100000);
-  (void)bb.local_ba();
-  (void)bb.keyframe_culling();
-  (void)bb.camera_rgb_flag();
-  // Read through a double: 2^53 is the largest range in which every integer is exact.
-  int_in("seed", 0, 9007199254740992.0);
+  cfg.backbone = ResolveBackbone(given, path, &cfg.backbone_params);
 
   if (root["stages"]) {
     const YAML::Node s = root["stages"];
@@ -233,7 +156,7 @@ std::string MethodConfig::ToJson() const {
   j["method"] = method;
   j["config_file"] = path;
   nlohmann::json b = nlohmann::json::object();
-  for (const auto& [k, p] : backbone.params) b[k] = ParamJson(p);
+  for (const auto& [k, p] : backbone_params) b[k] = ParamJson(p);
   j["backbone"] = b;
   nlohmann::json st = nlohmann::json::array();
   for (const StageConfig& s : stages) {
@@ -246,6 +169,20 @@ std::string MethodConfig::ToJson() const {
   }
   j["stages"] = st;
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);  // invalid UTF-8 -> U+FFFD
+}
+
+void MethodConfig::SetStageParam(const std::string& stage, const std::string& key, const std::string& value,
+                                 const std::string& source) {
+  for (StageConfig& sc : stages) {
+    if (sc.name != stage) continue;
+    auto it = sc.params.params.find(key);
+    if (it == sc.params.params.end()) throw InputError(path, sc.params.line, "stage " + stage + " has no parameter " + key);
+    it->second.value = value;
+    it->second.list.clear();
+    it->second.source = source;
+    return;
+  }
+  throw InputError(path, "no stage " + stage + " in the config");
 }
 
 }  // namespace dynref

@@ -1,18 +1,21 @@
 // `dynref run`: the frame loop of the backbone with the method's stages at their hooks
-// (stage.h), sequential local mapping, and the run outputs:
+// (method/hooks.h), sequential local mapping, and the run outputs:
 //   RUN/trajectory.txt  every tracked frame, TUM format, T_wc (ORB-SLAM2 SaveTrajectoryTUM:
 //                       frame pose relative to its reference keyframe, composed with the final
 //                       keyframe pose)
 //   RUN/lost.txt        frames without a pose: "<index> <stamp> <reason>"
 //   RUN/keyframes.txt   keyframes (not culled), TUM format, T_wc
 //   RUN/run.json        sequence, method, detections, resolved config, counts, tracking rate,
-//                       per-module ms/frame, end_state
+//                       per-module ms/frame, outputs of the method's components, end_state
 //   RUN/trace.dtr       trace (ref/trace), unless --trace off
 //   RUN/overlays/       with --overlays: one PNG per processed frame (ref/render)
 #pragma once
+#include <memory>
 #include <string>
 
 #include "core/frame_range.h"
+#include "method/registry.h"
+#include "pipeline/method_config.h"
 
 namespace dynref {
 
@@ -28,6 +31,11 @@ struct RunOptions {
   FrameRange frames;             // --frames: inclusive sequence indices (default: all)
   bool progress = true;          // progress line when stderr is a terminal
   bool overlays = false;         // render RUN/overlays/ after the run (ref/render; needs a trace)
+  // In-memory config (e.g. a sweep that changed one parameter); when set, config_path and the
+  // method's default config are not read.
+  std::shared_ptr<const MethodConfig> config;
+  // Stages and map modules available to the config; nullptr = every built-in method.
+  const MethodRegistry* registry = nullptr;
   void Check() const;            // InputError naming the bad field
 };
 

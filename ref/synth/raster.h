@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/intrinsics.h"
 #include "core/se3.h"
 
 namespace dynref::synth {
@@ -47,10 +48,8 @@ struct DrawItem {
   int instance_override = 0;               // > 0 replaces the per-triangle instance id
 };
 
-struct Intrinsics {
-  int width = 640, height = 480;
-  float fx = 535.4f, fy = 539.2f, cx = 320.1f, cy = 247.6f;
-};
+// The renderer rasterises in float (generated sequences are bit-identical across versions).
+using Intrinsics = PinholeIntrinsics<float>;
 
 struct FaceRecord {
   Eigen::Vector3f n_w;                     // unit world normal, flipped to face the camera

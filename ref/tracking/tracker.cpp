@@ -16,6 +16,7 @@ void TrackerOptions::Check() const {
   if (min_frames < 0) throw InputError("tracker options", "min_frames must be >= 0");
   if (reloc_recent_keyframes < 1) throw InputError("tracker options", "reloc_recent_keyframes must be >= 1");
   if (ransac_iterations < 1) throw InputError("tracker options", "ransac_iterations must be >= 1");
+  pose.Check();
 }
 
 namespace {
@@ -58,7 +59,7 @@ int Tracker::OptimizePose(Frame& f) {
     pose_call_ = 0;
   }
   ++pose_call_;
-  optim::Intrinsics K{camera_.fx, camera_.fy, camera_.cx, camera_.cy, camera_.bf};
+  const Intrinsics K = camera_.Pinhole();
   std::vector<optim::PoseObservation> obs;
   std::vector<int> idx;
   for (size_t i = 0; i < f.N(); ++i) {
@@ -81,7 +82,7 @@ int Tracker::OptimizePose(Frame& f) {
   }
   std::fill(f.outlier.begin(), f.outlier.end(), 0);
   if (obs.size() < 3) return 0;
-  const optim::PoseOnlyResult r = optim::OptimizePose(K, f.T_cw, obs, optim::PoseOnlyOptions{}, &trace_,
+  const optim::PoseOnlyResult r = optim::OptimizePose(K, f.T_cw, obs, options_.pose, &trace_,
                                                       "track.pose#" + std::to_string(pose_call_));
   f.T_cw = r.T_cw;
   for (size_t k = 0; k < idx.size(); ++k) f.outlier[idx[k]] = r.inlier[k] ? 0 : 1;

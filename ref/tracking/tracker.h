@@ -1,5 +1,5 @@
 // ORB-SLAM2 Tracking (RGB-D, SLAM mode) as explicit steps the pipeline calls in frame order, so
-// that method stages run between them (ref/pipeline/stage.h). Single-threaded: local mapping
+// that method stages run between them (ref/method/hooks.h). Single-threaded: local mapping
 // runs after each keyframe (ref/mapping), so ORB-SLAM2's "local mapping idle" is always true.
 #pragma once
 #include <cstdint>
@@ -10,6 +10,7 @@
 #include "core/rng.h"
 #include "map/frame.h"
 #include "map/map.h"
+#include "optim/optim.h"
 #include "trace/trace_writer.h"
 
 namespace dynref::tracking {
@@ -21,6 +22,7 @@ struct TrackerOptions {
   int reloc_recent_keyframes = 10;  // relocalisation candidates (no BoW database: most recent)
   int ransac_iterations = 300; // ORB-SLAM2 PnPsolver SetRansacParameters(0.99, 10, 300, 4, 0.5, 5.991)
   uint64_t seed = 1;
+  optim::PoseOnlyOptions pose;  // ORB-SLAM2 Optimizer::PoseOptimization (4 x 10 iterations, chi2 gates)
   void Check() const;
 };
 

@@ -5,7 +5,7 @@
 using namespace dynref::sgdo;
 
 namespace {
-const Intrinsics kK{535.4, 539.2, 320.1, 247.6};
+const dynref::Intrinsics kK{535.4, 539.2, 320.1, 247.6};
 
 // Keyframe looking at a fronto-parallel wall at `z` m.
 cv::Mat Wall(float z) { return cv::Mat(480, 640, CV_32F, cv::Scalar(z)); }

@@ -7,6 +7,7 @@
 #include "core/rng.h"
 #include "dense/ply_writer.h"
 #include "dynamic/sgdo/register.h"
+#include "method/session.h"
 #include "test_support.h"
 #include "trace/trace_reader.h"
 
@@ -55,6 +56,19 @@ void Render(int k, const cv::Mat& far_tex, const cv::Mat& near_tex, const cv::Ma
 }
 
 Param P(const std::string& v) { Param p; p.value = v; p.source = "test"; return p; }
+
+// The sgdo components built as a Session builds them: one registry, one SharedState per run.
+struct Sgdo {
+  MethodRegistry registry;
+  SharedState shared;
+  Sgdo() { RegisterSgdoMethod(registry); }
+  std::unique_ptr<Stage> stage(const std::string& name, const ParamMap& p) {
+    return (*registry.FindStage(name))(p, shared);
+  }
+  std::unique_ptr<MapModule> module(const std::string& name, const ParamMap& p) {
+    return (*registry.FindMapModule(name))(p, shared);
+  }
+};
 
 ParamMap Params(const std::string& stage, std::map<std::string, Param> kv) {
   ParamMap m;
@@ -120,15 +134,14 @@ TEST_CASE("sgdo stages: person moving off the epipolar lines is rejected, backgr
                     double(r.br().y - 1), true}};
   }
 
-  StageRegistry registry;
-  RegisterSgdoStages(registry);
+  Sgdo sgdo;
   Param classes;
   classes.list = {"person"};
-  auto mask = (*registry.Find("sgdo.mask"))(Params("sgdo.mask",
+  auto mask = sgdo.stage("sgdo.mask", Params("sgdo.mask",
       {{"dynamic_classes", classes}, {"min_confidence", P("0.25")}, {"dilation_kernel_px", P("5")},
        {"reject_in_mask", P("false")}}));
-  auto coarse = (*registry.Find("sgdo.coarse"))(Params("sgdo.coarse", CoarseParams("per_point")));
-  auto depth = (*registry.Find("sgdo.depth"))(Params("sgdo.depth",
+  auto coarse = sgdo.stage("sgdo.coarse", Params("sgdo.coarse", CoarseParams("per_point")));
+  auto depth = sgdo.stage("sgdo.depth", Params("sgdo.depth",
       {{"eta", P("0.1")}, {"lambda", P("100")}, {"reject", P("true")}, {"weight", P("true")}}));
   CHECK(mask->hook() == Hook::kAfterExtraction);
   CHECK(coarse->hook() == Hook::kBeforeInitialPose);
@@ -146,7 +159,8 @@ TEST_CASE("sgdo stages: person moving off the epipolar lines is rejected, backgr
   kf.T_cw = SE3::Identity();
 
   tr.BeginFrame(1, 0.1);
-  StageContext ctx{f1, &f0, &kf, map, cam, tr, nullptr};
+  FrameEdit edit(f1, map, Hook::kAfterExtraction);
+  StageContext ctx{edit, &f0, &kf, map, cam, tr};
   mask->Run(ctx);
   coarse->Run(ctx);
   // Initial pose: camera moved +x by t with fx t / 2 m = 12 px.
@@ -191,21 +205,20 @@ TEST_CASE("sgdo stages: person moving off the epipolar lines is rejected, backgr
 }
 
 TEST_CASE("sgdo stages: configs are validated (unknown keys, bad values, missing mask stage)") {
-  StageRegistry registry;
-  RegisterSgdoStages(registry);
-  CHECK(registry.Has("sgdo.densemap"));
-  CHECK_THROWS_AS((*registry.Find("sgdo.depth"))(Params("sgdo.depth",
+  Sgdo sgdo;
+  CHECK(sgdo.registry.FindMapModule("sgdo.densemap") != nullptr);
+  CHECK_THROWS_AS(sgdo.stage("sgdo.depth", Params("sgdo.depth",
                       {{"eta", P("0.1")}, {"lambda", P("100")}, {"reject", P("true")},
                        {"weight", P("true")}, {"typo", P("1")}})),
                   InputError);
-  CHECK_THROWS_AS((*registry.Find("sgdo.depth"))(Params("sgdo.depth",
+  CHECK_THROWS_AS(sgdo.stage("sgdo.depth", Params("sgdo.depth",
                       {{"eta", P("-1")}, {"lambda", P("100")}, {"reject", P("true")}, {"weight", P("true")}})),
                   InputError);
-  CHECK_THROWS_AS((*registry.Find("sgdo.depth"))(Params("sgdo.depth", {{"eta", P("0.1")}})), InputError);
+  CHECK_THROWS_AS(sgdo.stage("sgdo.depth", Params("sgdo.depth", {{"eta", P("0.1")}})), InputError);
 
   // Stages that read the mask refuse to run when sgdo.mask is not earlier in the list.
-  auto coarse = (*registry.Find("sgdo.coarse"))(Params("sgdo.coarse", CoarseParams("per_point")));
-  auto dense = (*registry.Find("sgdo.densemap"))(Params("sgdo.densemap", DenseMapParams()));
+  auto coarse = sgdo.stage("sgdo.coarse", Params("sgdo.coarse", CoarseParams("per_point")));
+  auto dense = sgdo.module("sgdo.densemap", Params("sgdo.densemap", DenseMapParams()));
   cv::Mat g0, d0;
   Render(0, Texture(420, 240, 1), Texture(420, 240, 2), Texture(50, 100, 3), g0, d0);
   Map map;
@@ -215,10 +228,12 @@ TEST_CASE("sgdo stages: configs are validated (unknown keys, bad values, missing
   SetupFrame(f1, 1, g0, d0, nullptr);
   KeyFrame kf;
   kf.frame = f0;
-  StageContext ctx{f1, &f0, &kf, map, TestCamera(), tr, &kf};
+  FrameEdit edit(f1, map, Hook::kBeforeInitialPose);
+  StageContext ctx{edit, &f0, &kf, map, TestCamera(), tr};
   using Catch::Matchers::Contains;
   CHECK_THROWS_WITH(coarse->Run(ctx), Contains("needs sgdo.mask"));
-  CHECK_THROWS_WITH(dense->Run(ctx), Contains("needs sgdo.mask"));
+  const MapModuleContext mctx{f1, kf, map, TestCamera(), tr};
+  CHECK_THROWS_WITH(dense->OnKeyFrame(mctx), Contains("needs sgdo.mask"));
 }
 
 TEST_CASE("sgdo stages: dense map stage writes a PLY of the unmasked keyframe pixels") {
@@ -232,41 +247,42 @@ TEST_CASE("sgdo stages: dense map stage writes a PLY of the unmasked keyframe pi
   det.instance_ids = cv::Mat::zeros(240, 320, CV_16U);
   det.instance_ids(kPersonPrev).setTo(1);
   det.instances = {{1, 0, "person", 0.9, 120, 60, 169, 159, true}};
-  StageRegistry registry;
-  RegisterSgdoStages(registry);
+  Sgdo sgdo;
   Param classes;
   classes.list = {"person"};
-  auto mask = (*registry.Find("sgdo.mask"))(Params("sgdo.mask",
+  auto mask = sgdo.stage("sgdo.mask", Params("sgdo.mask",
       {{"dynamic_classes", classes}, {"min_confidence", P("0.25")}, {"dilation_kernel_px", P("1")},
        {"reject_in_mask", P("true")}}));
-  auto dense = (*registry.Find("sgdo.densemap"))(Params("sgdo.densemap", DenseMapParams()));
+  auto dense = sgdo.module("sgdo.densemap", Params("sgdo.densemap", DenseMapParams()));
   Map map;
   trace::TraceWriter tr("", trace::Level::kOff, trace::RunHeader{});
   Frame f;
   SetupFrame(f, 0, g0, d0, &det);
   KeyFrame kf;
   kf.id = 0;
-  StageContext ctx{f, nullptr, nullptr, map, TestCamera(), tr, &kf};
-  ctx.run_dir = dir;  // a relative `output` is written into the run folder
+  FrameEdit edit(f, map, Hook::kAfterExtraction);
+  StageContext ctx{edit, nullptr, nullptr, map, TestCamera(), tr};
   mask->Run(ctx);
   CHECK(f.ExcludedCount() > 0);  // (S): keypoints in M rejected
-  dense->Run(ctx);
-  dense.reset();  // end of run: PLY written
+  dense->OnKeyFrame(MapModuleContext{f, kf, map, TestCamera(), tr});
+  RunEnd end(dir);  // a relative `output` is written into the run folder
+  dense->Finish(map, end);
+  REQUIRE(end.outputs().size() == 1);
+  CHECK(end.outputs()[0].path == dir + "/dense_map.ply");
   const dense::PointCloud cloud = dense::ReadPly(dir + "/dense_map.ply");
   REQUIRE(!cloud.empty());
   for (const auto& p : cloud) CHECK(p.z > 1.9f);  // no person point (1.5 m) in the static map
 }
 
 TEST_CASE("sgdo stages: dense map output with a '..' component is refused naming file:line") {
-  StageRegistry registry;
-  RegisterSgdoStages(registry);
+  Sgdo sgdo;
   auto make = [&](const std::string& output) {
     std::map<std::string, Param> params = DenseMapParams();
     Param out = P(output);
     out.file = "c.yaml";
     out.line = 7;
     params["output"] = out;
-    return (*registry.Find("sgdo.densemap"))(Params("sgdo.densemap", params));
+    return sgdo.module("sgdo.densemap", Params("sgdo.densemap", params));
   };
   using Catch::Matchers::Contains;
   for (const std::string bad : {"../../escaped.ply", "..", "sub/../x.ply", "/tmp/a/../b.ply"}) {

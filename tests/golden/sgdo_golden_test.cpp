@@ -9,7 +9,6 @@
 #include <filesystem>
 
 #include "pipeline/pipeline.h"
-#include "pipeline/stage_registry.h"
 #include "synth/synth.h"
 #include "test_support.h"
 

@@ -4,7 +4,8 @@
 
 #include "core/error.h"
 #include "pipeline/method_config.h"
-#include "pipeline/stage_registry.h"
+#include "dynamic/builtin_methods.h"
+#include "method/session.h"
 #include "test_support.h"
 
 using namespace dynref;
@@ -21,17 +22,18 @@ TEST_CASE("method config: configs/orb.yaml loads with every value sourced") {
   const MethodConfig cfg = LoadMethodConfig(test::SourcePath("configs/orb.yaml"));
   CHECK(cfg.method == "orb");
   CHECK(cfg.stages.empty());
-  CHECK(cfg.backbone.n_features() == 1000);
-  CHECK(cfg.backbone.scale_factor() == Approx(1.2));
-  for (const auto& kv : cfg.backbone.params) CHECK_FALSE(kv.second.source.empty());
+  CHECK(cfg.backbone.orb.n_features == 1000);
+  CHECK(cfg.backbone.orb.scale_factor == 1.2);
+  CHECK(cfg.backbone_params.size() == BackboneKeys().size());
+  for (const auto& kv : cfg.backbone_params) CHECK_FALSE(kv.second.source.empty());
   CHECK(cfg.ToJson().find("\"source\"") != std::string::npos);
 }
 
 TEST_CASE("method config: omitted backbone keys take ORB-SLAM2 defaults with a default source") {
   const MethodConfig cfg = LoadMethodConfig(Write("defaults", "method: x\nbackbone:\n  n_features: {value: 3000, source: \"paper Sec. 4\"}\n"));
-  CHECK(cfg.backbone.n_features() == 3000);
-  CHECK(cfg.backbone.n_levels() == 8);
-  CHECK(cfg.backbone.params.at("n_levels").source.rfind("default:", 0) == 0);
+  CHECK(cfg.backbone.orb.n_features == 3000);
+  CHECK(cfg.backbone.orb.n_levels == 8);
+  CHECK(cfg.backbone_params.at("n_levels").source.rfind("default:", 0) == 0);
 }
 
 TEST_CASE("method config: unknown keys, missing sources and unknown stages are errors with file:line") {
@@ -47,7 +49,9 @@ TEST_CASE("method config: unknown keys, missing sources and unknown stages are e
   CHECK_THROWS_AS(LoadMethodConfig(Write("top", "method: x\nbackbon: {}\n")), InputError);
   CHECK_THROWS_AS(LoadMethodConfig(Write("range", "method: x\nbackbone:\n  n_levels: {value: 0, source: s}\n")), InputError);
   const MethodConfig cfg = LoadMethodConfig(Write("stage", "method: x\nstages:\n  - name: nope.stage\n    params: {}\n"));
-  CHECK_THROWS_AS(CreateStages(cfg, BuiltinStageRegistry()), InputError);
+  MethodRegistry registry;
+  RegisterBuiltinMethods(registry);
+  CHECK_THROWS_AS(Session(cfg.path, cfg.stages, registry), InputError);
 }
 
 TEST_CASE("method config: out-of-range backbone integers are errors with file:line") {
@@ -81,7 +85,7 @@ TEST_CASE("method config: out-of-range backbone integers are errors with file:li
   // The bounds admit the shipped configs and the ORB-SLAM2 defaults.
   const std::string max =
       Write("int_max", "method: x\nbackbone:\n  n_features: {value: 100000, source: s}\n");
-  CHECK(LoadMethodConfig(max).backbone.n_features() == 100000);
+  CHECK(LoadMethodConfig(max).backbone.orb.n_features == 100000);
 }
 
 TEST_CASE("method config: duplicate keys and a stage listed twice are errors with file:line") {

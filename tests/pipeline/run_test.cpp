@@ -12,7 +12,7 @@
 #include "io/mask_format.h"
 #include "io/trajectory.h"
 #include "pipeline/pipeline.h"
-#include "pipeline/stage_registry.h"
+#include "method/registry.h"
 #include "trace/trace_reader.h"
 #include "test_support.h"
 
@@ -42,7 +42,7 @@ class ExcludeAllStage : public Stage {
   std::string name() const override { return "test.exclude_all"; }
   Hook hook() const override { return Hook::kAfterExtraction; }
   void Run(StageContext& ctx) override {
-    for (size_t i = 0; i < ctx.frame.N(); ++i) ctx.frame.Exclude(static_cast<int>(i), name(), "test");
+    for (size_t i = 0; i < ctx.frame.view().N(); ++i) ctx.frame.Exclude(static_cast<int>(i), name(), "test");
   }
 };
 
@@ -51,16 +51,19 @@ class HalfWeightStage : public Stage {
   std::string name() const override { return "test.half_weight"; }
   Hook hook() const override { return Hook::kBeforeInitialPose; }
   void Run(StageContext& ctx) override {
-    for (size_t i = 0; i < ctx.frame.N(); i += 2) ctx.frame.SetWeight(static_cast<int>(i), 0.5);
+    for (size_t i = 0; i < ctx.frame.view().N(); i += 2) ctx.frame.SetWeight(static_cast<int>(i), 0.5);
   }
 };
 
-void RegisterTestStages() {
-  StageRegistry& r = BuiltinStageRegistry();
-  if (!r.Has("test.exclude_all"))
-    r.Register("test.exclude_all", [](const ParamMap&) { return std::make_unique<ExcludeAllStage>(); });
-  if (!r.Has("test.half_weight"))
-    r.Register("test.half_weight", [](const ParamMap&) { return std::make_unique<HalfWeightStage>(); });
+// A registry with the two test stages only (passed to the run: no process-wide registry).
+const MethodRegistry& TestRegistry() {
+  static const MethodRegistry r = [] {
+    MethodRegistry m;
+    m.AddStage("test.exclude_all", [](const ParamMap&, SharedState&) { return std::make_unique<ExcludeAllStage>(); });
+    m.AddStage("test.half_weight", [](const ParamMap&, SharedState&) { return std::make_unique<HalfWeightStage>(); });
+    return m;
+  }();
+  return r;
 }
 
 std::string WriteConfig(const std::string& dir, const std::string& stage) {
@@ -137,9 +140,9 @@ TEST_CASE("run: fewer than 2 frames ends cleanly with exit 2 and says why") {
 }
 
 TEST_CASE("run: everything masked out is never initialised, every frame listed as lost") {
-  RegisterTestStages();
   const std::string out = test::ScratchDir("run_masked");
   RunOptions o = Options(out, "frames");
+  o.registry = &TestRegistry();
   o.config_path = WriteConfig(out, "test.exclude_all");
   o.frames.last = 3;
   const RunResult r = RunSequence(o);
@@ -152,9 +155,9 @@ TEST_CASE("run: everything masked out is never initialised, every frame listed a
 }
 
 TEST_CASE("run: per-feature weights reach pose optimisation and local BA") {
-  RegisterTestStages();
   const std::string a = test::ScratchDir("run_weight_a"), b = test::ScratchDir("run_weight_b");
   RunOptions oa = Options(a), ob = Options(b, "full");
+  ob.registry = &TestRegistry();
   ob.config_path = WriteConfig(b, "test.half_weight");
   REQUIRE(RunSequence(oa).exit_code == 0);
   REQUIRE(RunSequence(ob).exit_code == 0);

@@ -38,7 +38,9 @@ double Tolerance(double z) { return 4 * synth::SensorModel().SigmaZ(z) + 0.5 / 5
 TEST_CASE("synth: depth back-projected with the GT pose lands on the floor and on the rendered surfaces") {
   const Sequence seq = Make("synth_gt_surface", "walking_xyz", 2);
   const synth::World world(synth::GetPreset("walking_xyz"), 1);
-  const synth::Intrinsics K;
+  // The synthetic camera (TUM fr3 intrinsics) in the renderer's float form, as synth.cpp builds it.
+  const Camera cam = CameraPreset("synthetic");
+  const synth::Intrinsics K{float(cam.fx), float(cam.fy), float(cam.cx), float(cam.cy), 0.f, cam.width, cam.height};
   for (size_t i = 0; i < seq.frames.size(); ++i) {
     const cv::Mat depth = LoadDepthMeters(seq, seq.frames[i]);
     const SE3& T_wc = seq.groundtruth[i].T_wc;

@@ -12,16 +12,14 @@
 #include <opencv2/core.hpp>
 #include <string>
 
+#include "core/intrinsics.h"
+
 namespace dynref::sgdo {
 
 struct DepthConsistencyOptions {
   double eta = 0.1;      // not stated ("empirical value"): above Kinect noise, below motion
   double lambda = 100;   // not stated: 1/eta^2
   void Check() const;
-};
-
-struct Intrinsics {
-  double fx = 0, fy = 0, cx = 0, cy = 0;
 };
 
 struct DepthCheck {

@@ -4,20 +4,19 @@
 
 namespace dynref {
 
-void RegisterSgdoStages(StageRegistry& registry) {
-  // One blackboard per registry: the stages of one run share the current frame's mask.
-  auto board = std::make_shared<sgdo::Blackboard>();
-  registry.Register("sgdo.mask", [board](const ParamMap& p) -> std::unique_ptr<Stage> {
-    return std::make_unique<sgdo::MaskStage>(p, board);
+void RegisterSgdoMethod(MethodRegistry& registry) {
+  // The components of one run share the current frame's mask through the run's SharedState.
+  registry.AddStage("sgdo.mask", [](const ParamMap& p, SharedState& shared) -> std::unique_ptr<Stage> {
+    return std::make_unique<sgdo::MaskStage>(p, shared.Get<sgdo::Blackboard>(sgdo::kBoardKey));
   });
-  registry.Register("sgdo.coarse", [board](const ParamMap& p) -> std::unique_ptr<Stage> {
-    return std::make_unique<sgdo::CoarseStage>(p, board);
+  registry.AddStage("sgdo.coarse", [](const ParamMap& p, SharedState& shared) -> std::unique_ptr<Stage> {
+    return std::make_unique<sgdo::CoarseStage>(p, shared.Get<sgdo::Blackboard>(sgdo::kBoardKey));
   });
-  registry.Register("sgdo.depth", [](const ParamMap& p) -> std::unique_ptr<Stage> {
+  registry.AddStage("sgdo.depth", [](const ParamMap& p, SharedState&) -> std::unique_ptr<Stage> {
     return std::make_unique<sgdo::DepthStage>(p);
   });
-  registry.Register("sgdo.densemap", [board](const ParamMap& p) -> std::unique_ptr<Stage> {
-    return std::make_unique<sgdo::DenseMapStage>(p, board);
+  registry.AddMapModule("sgdo.densemap", [](const ParamMap& p, SharedState& shared) -> std::unique_ptr<MapModule> {
+    return std::make_unique<sgdo::DenseMapModule>(p, shared.Get<sgdo::Blackboard>(sgdo::kBoardKey));
   });
 }
 

@@ -1,11 +1,11 @@
-// SGDO-SLAM (seed 001) stages for the pipeline's StageRegistry:
-//   sgdo.mask      kAfterExtraction   dynamic mask M (Sec. 3.2); (S): reject keypoints in M
-//   sgdo.coarse    kBeforeInitialPose LK + 7-point RANSAC F + epipolar distance (Sec. 3.3)
-//   sgdo.depth     kAfterInitialPose  depth consistency eps, rejection |eps| > eta, weights (3.4-3.5)
-//   sgdo.densemap  kOnKeyFrameCreated dense static map, PLY at the end (Sec. 3.6)
+// SGDO-SLAM (seed 001) components for the MethodRegistry:
+//   sgdo.mask      stage, kAfterExtraction   dynamic mask M (Sec. 3.2); (S): reject keypoints in M
+//   sgdo.coarse    stage, kBeforeInitialPose LK + 7-point RANSAC F + epipolar distance (Sec. 3.3)
+//   sgdo.depth     stage, kAfterInitialPose  depth consistency eps, rejection |eps| > eta, weights (3.4-3.5)
+//   sgdo.densemap  map module                dense static map, PLY at the end of the run (Sec. 3.6)
 #pragma once
-#include "pipeline/stage.h"
+#include "method/registry.h"
 
 namespace dynref {
-void RegisterSgdoStages(StageRegistry& registry);
+void RegisterSgdoMethod(MethodRegistry& registry);
 }  // namespace dynref

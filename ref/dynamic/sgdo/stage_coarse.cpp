@@ -14,7 +14,7 @@ namespace dynref::sgdo {
 
 CoarseStage::CoarseStage(const ParamMap& p, std::shared_ptr<Blackboard> board)
     : board_(std::move(board)), rng_(static_cast<uint64_t>(p.GetInt("ransac_seed")), "sgdo.F") {
-  RequireKnownKeys(p, {"combination", "th_epi_px", "vote_ratio", "lk_window_px", "lk_max_level",
+  p.RequireKnownKeys({"combination", "th_epi_px", "vote_ratio", "lk_window_px", "lk_max_level",
                        "lk_max_iterations", "lk_epsilon", "border_px", "patch_sad_max",
                        "ransac_threshold_px", "ransac_confidence", "ransac_max_iterations",
                        "ransac_seed"});
@@ -48,7 +48,7 @@ CoarseStage::CoarseStage(const ParamMap& p, std::shared_ptr<Blackboard> board)
 }
 
 void CoarseStage::Run(StageContext& ctx) {
-  Frame& f = ctx.frame;
+  const Frame& f = ctx.frame.view();
   const int n = static_cast<int>(f.N());
   const bool uses_mask = coarse_.mode != CoarseMode::kEpipolarOnly;
   if (uses_mask && !board_->Has(f))
@@ -65,17 +65,17 @@ void CoarseStage::Run(StageContext& ctx) {
     if (mask) inputs[i].instance = mask->InstanceAt(f.keys[i].pt.x, f.keys[i].pt.y);
   }
 
-  std::vector<LkPair> pairs;
+  std::vector<geometry::LkPair> pairs;
   const Frame* prev = ctx.previous;
   if (prev != nullptr && !prev->grey.empty() && !candidates.empty()) {
     std::vector<cv::Point2f> pts;
     for (int i : candidates) pts.push_back(f.keys[i].pt);
-    pairs = TrackBackward(prev->grey, f.grey, pts, lk_);
+    pairs = geometry::TrackBackward(prev->grey, f.grey, pts, lk_);
     for (size_t c = 0; c < candidates.size(); ++c)
-      PrunePair(prev->grey, f.grey, inputs[candidates[c]].instance != 0, lk_, pairs[c]);
+      geometry::PrunePair(prev->grey, f.grey, inputs[candidates[c]].instance != 0, lk_, pairs[c]);
     if (ctx.camera.HasDistortion()) {  // F and D on undistorted coordinates
       std::vector<cv::Point2f> a, b, ua, ub;
-      for (const LkPair& pr : pairs) a.push_back(pr.p_prev), b.push_back(pr.p_cur);
+      for (const geometry::LkPair& pr : pairs) a.push_back(pr.p_prev), b.push_back(pr.p_cur);
       const cv::Mat K(ctx.camera.K()), D = ctx.camera.DistCoeffs();
       cv::undistortPoints(a, ua, K, D, cv::noArray(), K);
       cv::undistortPoints(b, ub, K, D, cv::noArray(), K);
@@ -84,28 +84,28 @@ void CoarseStage::Run(StageContext& ctx) {
   }
 
   // c. RANSAC on the usable pairs.
-  std::vector<Correspondence> usable;
+  std::vector<geometry::Correspondence> usable;
   std::vector<size_t> usable_of;  // index into pairs
   for (size_t c = 0; c < pairs.size(); ++c)
     if (pairs[c].usable_for_F()) {
       usable.push_back({{pairs[c].p_prev.x, pairs[c].p_prev.y}, {pairs[c].p_cur.x, pairs[c].p_cur.y}});
       usable_of.push_back(c);
     }
-  const RansacResult F = RansacFundamental(usable, ransac_, rng_);
+  const geometry::RansacResult F = geometry::RansacFundamental(usable, ransac_, rng_);
   std::vector<uint8_t> f_inlier(pairs.size(), 0);
   for (size_t u = 0; u < usable_of.size() && F.valid; ++u) f_inlier[usable_of[u]] = F.inliers[u];
 
   // d. Epipolar distance per tracked keypoint.
   int64_t tracked = 0;
   for (size_t c = 0; c < pairs.size(); ++c) {
-    const LkPair& pr = pairs[c];
+    const geometry::LkPair& pr = pairs[c];
     const int i = candidates[c];
     if (!pr.tracked) continue;
     ++tracked;
     if (!F.valid) continue;
     CoarseInput& in = inputs[i];
     in.has_distance = true;
-    in.epipolar_distance_px = EpipolarDistance(F.F, {pr.p_prev.x, pr.p_prev.y}, {pr.p_cur.x, pr.p_cur.y});
+    in.epipolar_distance_px = geometry::EpipolarDistance(F.F, {pr.p_prev.x, pr.p_prev.y}, {pr.p_cur.x, pr.p_cur.y});
     const bool dyn = in.epipolar_distance_px > coarse_.epipolar_threshold_px;
     tr.ProbabilityUpdate("sgdo.epipolar", trace::EntityKind::kFeature, f.FeatureId(i),
                          {{"u_prev", pr.p_prev.x}, {"v_prev", pr.p_prev.y}, {"u_cur", pr.p_cur.x},
@@ -135,7 +135,7 @@ void CoarseStage::Run(StageContext& ctx) {
     if (d.keep)
       tr.Decision(name(), trace::EntityKind::kFeature, f.FeatureId(candidates[c]), true, d.reason);
     else
-      f.Exclude(candidates[c], name(), d.reason);
+      ctx.frame.Exclude(candidates[c], name(), d.reason);
   }
   int64_t usable_count = static_cast<int64_t>(usable.size());
   tr.FrameCount(name(), "tracked", tracked);

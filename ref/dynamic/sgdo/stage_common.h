@@ -4,14 +4,22 @@
 #include <set>
 #include <string>
 
-#include "dynamic/sgdo/dynamic_mask.h"
-#include "pipeline/stage.h"
+#include "geometry/dynamic_mask.h"
+#include "core/error.h"
+#include "method/params.h"
+#include "method/stage.h"
 
 namespace dynref::sgdo {
 
-// Per-run blackboard shared by the sgdo stages of one registry: the dynamic mask M of the
-// frame being processed (written by sgdo.mask, read by sgdo.coarse and sgdo.densemap). Keyed by
-// frame index + stamp so a stale mask of another frame is never used.
+using geometry::BuildDynamicMask;
+using geometry::DynamicMask;
+using geometry::DynamicMaskOptions;
+using geometry::StaticClassLabels;
+
+// Per-run blackboard shared by the sgdo components of one Session (SharedState key kBoardKey):
+// the dynamic mask M of the frame being processed (written by sgdo.mask, read by sgdo.coarse and
+// the sgdo.densemap map module). Keyed by frame index + stamp so a stale mask of another frame is
+// never used.
 struct Blackboard {
   int frame_index = -1;
   std::string stamp_text;
@@ -21,8 +29,7 @@ struct Blackboard {
   bool Has(const Frame& f) const { return frame_index == f.index && stamp_text == f.stamp_text; }
 };
 
-// InputError naming the config file/line for a key not in `known`.
-void RequireKnownKeys(const ParamMap& params, const std::set<std::string>& known);
+constexpr const char* kBoardKey = "sgdo.board";
 
 // The frame's detections; InputError if the run has none for this frame (mask-based variants
 // need `--detections`).

@@ -10,7 +10,7 @@
 namespace dynref::sgdo {
 
 DepthStage::DepthStage(const ParamMap& p) {
-  RequireKnownKeys(p, {"eta", "lambda", "reject", "weight"});
+  p.RequireKnownKeys({"eta", "lambda", "reject", "weight"});
   options_.eta = p.GetDouble("eta");
   options_.lambda = p.GetDouble("lambda");
   reject_ = p.GetBool("reject");
@@ -24,14 +24,14 @@ DepthStage::DepthStage(const ParamMap& p) {
 }
 
 void DepthStage::Run(StageContext& ctx) {
-  Frame& f = ctx.frame;
+  const Frame& f = ctx.frame.view();
   trace::TraceWriter& tr = ctx.trace;
   const KeyFrame* kf = ctx.reference_kf;
   if (!f.has_pose || kf == nullptr || kf->frame.depth_m.empty()) {
     tr.FrameCount(name(), "skipped_no_pose_or_kf", 1);
     return;
   }
-  const Intrinsics K{ctx.camera.fx, ctx.camera.fy, ctx.camera.cx, ctx.camera.cy};
+  const Intrinsics K = ctx.camera.Pinhole();
   const Eigen::Isometry3d T_kc = kf->T_cw * f.T_cw.inverse();
   const double kf_id = static_cast<double>(kf->id);
   int64_t tested = 0, rejected = 0, skipped = 0;
@@ -51,14 +51,14 @@ void DepthStage::Run(StageContext& ctx) {
                          1.0 - f.Weight(i), 1.0 - (weight_ ? omega : f.Weight(i)));
     if (c.tested) ++tested; else ++skipped;
     if (reject) {
-      f.Exclude(i, name(), "depth-eps");
+      ctx.frame.Exclude(i, name(), "depth-eps");
       ++rejected;
       continue;
     }
     tr.Decision(name(), trace::EntityKind::kFeature, f.FeatureId(i), true,
                 c.tested ? "consistent" : "untested:" + c.skip_reason);
     if (weight_) {
-      f.SetWeight(i, omega);
+      ctx.frame.SetWeight(i, omega);
       weight_sum += omega;
     }
   }

@@ -9,13 +9,6 @@
 
 namespace dynref::sgdo {
 
-void RequireKnownKeys(const ParamMap& params, const std::set<std::string>& known) {
-  for (const auto& [key, p] : params.params)
-    if (!known.count(key))
-      throw InputError(p.file.empty() ? params.file : p.file, p.line ? p.line : params.line,
-                       "stage " + params.stage_name + ": unknown parameter '" + key + "'");
-}
-
 const FrameDetections& RequireDetections(const Frame& frame, const std::string& stage) {
   if (frame.detections == nullptr)
     throw InputError("--detections", stage + " needs instance masks for frame " + frame.stamp_text +
@@ -24,10 +17,7 @@ const FrameDetections& RequireDetections(const Frame& frame, const std::string& 
 }
 
 MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Blackboard> board) : board_(std::move(board)) {
-  // A new run builds new stages: forget the previous run's mask (stamps repeat across runs).
-  board_->frame_index = -1;
-  board_->stamp_text.clear();
-  RequireKnownKeys(p, {"dynamic_classes", "min_confidence", "dilation_kernel_px", "reject_in_mask"});
+  p.RequireKnownKeys({"dynamic_classes", "min_confidence", "dilation_kernel_px", "reject_in_mask"});
   const Param& classes = p.Get("dynamic_classes");
   options_.dynamic_class_ids.clear();
   for (const std::string& name : classes.list) {
@@ -48,7 +38,7 @@ MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Blackboard> board) : boa
 }
 
 void MaskStage::Run(StageContext& ctx) {
-  Frame& f = ctx.frame;
+  const Frame& f = ctx.frame.view();
   const FrameDetections& det = RequireDetections(f, name());
   board_->frame_index = f.index;
   board_->stamp_text = f.stamp_text;
@@ -75,7 +65,7 @@ void MaskStage::Run(StageContext& ctx) {
     if (!reject_in_mask_) continue;
     if (f.IsExcluded(static_cast<int>(i))) continue;
     if (inst != 0) {
-      f.Exclude(static_cast<int>(i), name(), "mask");
+      ctx.frame.Exclude(static_cast<int>(i), name(), "mask");
       ++rejected;
     } else {
       tr.Decision(name(), trace::EntityKind::kFeature, f.FeatureId(static_cast<int>(i)), true, "outside-mask");

@@ -1,6 +1,7 @@
-// The sgdo pipeline stages (see register.h for the hook of each). Internal to dynamic/sgdo;
-// constructed by the StageRegistry factories from a config's ParamMap. Every parameter is
-// required in the config (with its source), unknown keys are errors.
+// The sgdo components (see register.h for the hook of each). Internal to dynamic/sgdo;
+// constructed by the MethodRegistry factories from a config's ParamMap and the run's
+// SharedState. Every parameter is required in the config (with its source), unknown keys are
+// errors.
 #pragma once
 #include <memory>
 #include <string>
@@ -9,9 +10,10 @@
 #include "dense/ply_writer.h"
 #include "dynamic/sgdo/coarse.h"
 #include "dynamic/sgdo/depth_consistency.h"
-#include "dynamic/sgdo/fundamental.h"
-#include "dynamic/sgdo/lk_pairs.h"
 #include "dynamic/sgdo/stage_common.h"
+#include "geometry/fundamental.h"
+#include "geometry/lk_pairs.h"
+#include "method/map_module.h"
 
 namespace dynref::sgdo {
 
@@ -37,8 +39,8 @@ class CoarseStage : public Stage {
 
  private:
   std::shared_ptr<Blackboard> board_;
-  LkOptions lk_;
-  RansacOptions ransac_;
+  geometry::LkOptions lk_;
+  geometry::RansacOptions ransac_;
   CoarseOptions coarse_;
   Rng rng_;
 };
@@ -56,25 +58,21 @@ class DepthStage : public Stage {
   bool weight_ = true;   // (O), (S+G+O), (S+G+D+O)
 };
 
-class DenseMapStage : public Stage {
+// Map module: the dense static map of Sec. 3.6, written as PLY at the end of the run.
+class DenseMapModule : public MapModule {
  public:
-  DenseMapStage(const ParamMap& params, std::shared_ptr<Blackboard> board);
-  ~DenseMapStage() override;  // writes the PLY if frames were processed and not yet written
+  DenseMapModule(const ParamMap& params, std::shared_ptr<Blackboard> board);
   std::string name() const override { return "sgdo.densemap"; }
-  Hook hook() const override { return Hook::kOnKeyFrameCreated; }
-  void Run(StageContext& ctx) override;
-  // Final filter + atomic PLY write. Idempotent.
-  void WriteMap();
+  void OnKeyFrame(const MapModuleContext& ctx) override;
+  // Final filter + atomic PLY write into the run folder (nothing when no keyframe was added).
+  void Finish(const Map& map, RunEnd& end) override;
 
  private:
   std::shared_ptr<Blackboard> board_;
   dense::DenseMapOptions options_;
-  std::string output_path_;
+  std::string output_;  // relative to the run folder, or absolute
   dense::PlyFormat format_ = dense::PlyFormat::kBinaryLittleEndian;
   std::unique_ptr<dense::DenseMap> map_;
-  bool written_ = false;
-  bool resolved_ = false;
-  bool tr_no_output_ = false;
 };
 
 }  // namespace dynref::sgdo

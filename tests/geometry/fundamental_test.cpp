@@ -1,10 +1,10 @@
 #include <catch2/catch.hpp>
 
-#include "dynamic/sgdo/fundamental.h"
-#include "sgdo_geometry.h"
+#include "geometry/fundamental.h"
+#include "two_view.h"
 
-using namespace dynref::sgdo;
-namespace geo = dynref::sgdo::testgeo;
+using namespace dynref::geometry;
+namespace geo = dynref::geometry::testgeo;
 
 namespace {
 double FDistance(Eigen::Matrix3d a, Eigen::Matrix3d b) {
@@ -14,7 +14,7 @@ double FDistance(Eigen::Matrix3d a, Eigen::Matrix3d b) {
 }
 }  // namespace
 
-TEST_CASE("sgdo F: Eq. (5) epipolar distance matches the point-line distance") {
+TEST_CASE("fundamental: Eq. (5) epipolar distance matches the point-line distance") {
   // F maps P1 to the line y = 2 (0 x + 1 y - 2 = 0) whatever P1 is.
   Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
   F(1, 2) = 1;
@@ -24,13 +24,13 @@ TEST_CASE("sgdo F: Eq. (5) epipolar distance matches the point-line distance") {
   CHECK(std::isinf(EpipolarDistance(Eigen::Matrix3d::Zero(), {1, 1}, {1, 1})));
 }
 
-TEST_CASE("sgdo F: the true F has zero epipolar distance for static points") {
+TEST_CASE("fundamental: the true F has zero epipolar distance for static points") {
   const geo::Scene s = geo::MakeScene(50, 0, 0, 1);
   const Eigen::Matrix3d F = geo::TrueF();
   for (const auto& c : s.pairs) CHECK(EpipolarDistance(F, c.p_prev, c.p_cur) < 1e-6);
 }
 
-TEST_CASE("sgdo F: the 7-point solver recovers the true F among its roots") {
+TEST_CASE("fundamental: the 7-point solver recovers the true F among its roots") {
   const geo::Scene s = geo::MakeScene(7, 0, 0, 2);
   const std::vector<Eigen::Matrix3d> sols = SevenPointSolve(s.pairs);
   REQUIRE(!sols.empty());
@@ -44,7 +44,7 @@ TEST_CASE("sgdo F: the 7-point solver recovers the true F among its roots") {
   CHECK(best < 1e-6);
 }
 
-TEST_CASE("sgdo F: the 8-point fit recovers F from noise-free points") {
+TEST_CASE("fundamental: the 8-point fit recovers F from noise-free points") {
   const geo::Scene s = geo::MakeScene(40, 0, 0, 3);
   Eigen::Matrix3d F;
   REQUIRE(EightPointFit(s.pairs, F));
@@ -52,7 +52,7 @@ TEST_CASE("sgdo F: the 8-point fit recovers F from noise-free points") {
   CHECK(!EightPointFit(std::vector<Correspondence>(s.pairs.begin(), s.pairs.begin() + 7), F));
 }
 
-TEST_CASE("sgdo F: RANSAC separates 30% moving points and is seed-deterministic") {
+TEST_CASE("fundamental: RANSAC separates 30% moving points and is seed-deterministic") {
   const geo::Scene s = geo::MakeScene(140, 60, 0.15, 4);
   RansacOptions opt;
   dynref::Rng rng1(7, "sgdo.F"), rng2(7, "sgdo.F");
@@ -73,7 +73,7 @@ TEST_CASE("sgdo F: RANSAC separates 30% moving points and is seed-deterministic"
   CHECK(moving_dyn >= 54);  // >= 90 %: a few move along their epipolar line (the paper's P5)
 }
 
-TEST_CASE("sgdo F: RANSAC with pixel noise keeps static points under 1 px") {
+TEST_CASE("fundamental: RANSAC with pixel noise keeps static points under 1 px") {
   geo::Scene s = geo::MakeScene(150, 50, 0.15, 5);
   dynref::Rng noise(5, "test.noise");
   for (auto& c : s.pairs) {
@@ -89,7 +89,7 @@ TEST_CASE("sgdo F: RANSAC with pixel noise keeps static points under 1 px") {
   CHECK(static_ok >= 145);
 }
 
-TEST_CASE("sgdo F: too few points give no model") {
+TEST_CASE("fundamental: too few points give no model") {
   const geo::Scene s = geo::MakeScene(7, 0, 0, 6);
   dynref::Rng rng(1, "sgdo.F");
   const RansacResult r = RansacFundamental(s.pairs, RansacOptions{}, rng);

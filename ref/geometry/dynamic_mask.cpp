@@ -1,11 +1,11 @@
-#include "dynamic/sgdo/dynamic_mask.h"
+#include "geometry/dynamic_mask.h"
 
 #include <opencv2/imgproc.hpp>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-namespace dynref::sgdo {
+namespace dynref::geometry {
 namespace {
 
 bool IsDynamicClass(const DynamicMaskOptions& o, int class_id) {
@@ -18,7 +18,7 @@ cv::Mat InstancePixels(const FrameDetections& det, const DetectedInstance& inst,
                        int height) {
   if (inst.has_mask && !det.instance_ids.empty()) {
     if (det.instance_ids.cols != width || det.instance_ids.rows != height)
-      throw std::invalid_argument("sgdo mask: instance-id image size differs from the camera");
+      throw std::invalid_argument("instance mask: instance-id image size differs from the camera");
     return det.MaskOf(inst.id);
   }
   cv::Mat m = cv::Mat::zeros(height, width, CV_8U);
@@ -89,4 +89,4 @@ cv::Mat StaticClassLabels(const FrameDetections& detections, int width, int heig
   return labels;
 }
 
-}  // namespace dynref::sgdo
+}  // namespace dynref::geometry

@@ -1,9 +1,9 @@
 #include <catch2/catch.hpp>
 
-#include "dynamic/sgdo/dynamic_mask.h"
+#include "geometry/dynamic_mask.h"
 
 using namespace dynref;
-using namespace dynref::sgdo;
+using namespace dynref::geometry;
 
 namespace {
 FrameDetections TwoInstances() {
@@ -20,7 +20,7 @@ FrameDetections TwoInstances() {
 }
 }  // namespace
 
-TEST_CASE("sgdo mask: person masks only, dilated, lowest id wins on overlap") {
+TEST_CASE("instance mask: person masks only, dilated, lowest id wins on overlap") {
   DynamicMaskOptions o;
   o.dilation_kernel_px = 3;
   const DynamicMask m = BuildDynamicMask(TwoInstances(), 60, 40, o);
@@ -36,7 +36,7 @@ TEST_CASE("sgdo mask: person masks only, dilated, lowest id wins on overlap") {
   CHECK(m.InstanceAt(100, 5) == 0);
 }
 
-TEST_CASE("sgdo mask: confidence filter, no dilation, box-only instances") {
+TEST_CASE("instance mask: confidence filter, no dilation, box-only instances") {
   DynamicMaskOptions o;
   o.dilation_kernel_px = 1;
   o.min_confidence = 0.7;
@@ -52,7 +52,7 @@ TEST_CASE("sgdo mask: confidence filter, no dilation, box-only instances") {
   CHECK(b.InstanceAt(7, 8) == 0);
 }
 
-TEST_CASE("sgdo mask: static class labels and option checks") {
+TEST_CASE("instance mask: static class labels and option checks") {
   const cv::Mat labels = StaticClassLabels(TwoInstances(), 60, 40, DynamicMaskOptions{});
   CHECK(labels.at<int16_t>(21, 41) == 56);
   CHECK(labels.at<int16_t>(12, 12) == -1);

@@ -7,7 +7,7 @@
 
 #include "io/mask_format.h"
 
-namespace dynref::sgdo {
+namespace dynref::geometry {
 
 struct DynamicMaskOptions {
   std::vector<int> dynamic_class_ids = {0};  // COCO ids; default {person} (spec 001 (c))
@@ -38,4 +38,4 @@ DynamicMask BuildDynamicMask(const FrameDetections& detections, int width, int h
 cv::Mat StaticClassLabels(const FrameDetections& detections, int width, int height,
                           const DynamicMaskOptions& options);
 
-}  // namespace dynref::sgdo
+}  // namespace dynref::geometry

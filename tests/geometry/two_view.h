@@ -1,13 +1,13 @@
-// Synthetic two-view geometry for the sgdo tests: known K, known relative pose, points.
+// Synthetic two-view geometry for the geometry tests: known K, known relative pose, points.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <vector>
 
 #include "core/rng.h"
-#include "dynamic/sgdo/fundamental.h"
+#include "geometry/fundamental.h"
 
-namespace dynref::sgdo::testgeo {
+namespace dynref::geometry::testgeo {
 
 inline Eigen::Matrix3d K() {
   Eigen::Matrix3d k;
@@ -69,4 +69,4 @@ inline Scene MakeScene(int n_static, int n_moving, double motion_m, uint64_t see
   return s;
 }
 
-}  // namespace dynref::sgdo::testgeo
+}  // namespace dynref::geometry::testgeo

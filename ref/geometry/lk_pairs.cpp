@@ -1,11 +1,11 @@
-#include "dynamic/sgdo/lk_pairs.h"
+#include "geometry/lk_pairs.h"
 
 #include <opencv2/video/tracking.hpp>
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
 
-namespace dynref::sgdo {
+namespace dynref::geometry {
 
 void LkOptions::Check() const {
   if (window_px < 3 || window_px % 2 == 0) throw std::invalid_argument("window_px must be odd >= 3");
@@ -80,4 +80,4 @@ void PrunePair(const cv::Mat& prev_grey, const cv::Mat& cur_grey, bool in_mask,
   pair.prune_reason = in_mask ? "in-mask" : "";
 }
 
-}  // namespace dynref::sgdo
+}  // namespace dynref::geometry

@@ -2,9 +2,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/rng.h"
-#include "dynamic/sgdo/lk_pairs.h"
+#include "geometry/lk_pairs.h"
 
-using namespace dynref::sgdo;
+using namespace dynref::geometry;
 
 namespace {
 // Smooth random texture (deterministic).
@@ -21,7 +21,7 @@ cv::Mat Texture(int w, int h) {
 }
 }  // namespace
 
-TEST_CASE("sgdo lk: backward tracking recovers a known shift") {
+TEST_CASE("lk pairs: backward tracking recovers a known shift") {
   const cv::Mat prev = Texture(160, 120);
   cv::Mat cur;
   const cv::Mat shift = (cv::Mat_<double>(2, 3) << 1, 0, 3, 0, 1, 2);  // cur(x) = prev(x - d)
@@ -39,7 +39,7 @@ TEST_CASE("sgdo lk: backward tracking recovers a known shift") {
   for (size_t i = 0; i < pairs.size(); ++i) CHECK(again[i].p_prev == pairs[i].p_prev);
 }
 
-TEST_CASE("sgdo lk: pruning by border, patch SAD and mask") {
+TEST_CASE("lk pairs: pruning by border, patch SAD and mask") {
   const cv::Mat prev = Texture(100, 80);
   const cv::Mat cur = prev.clone();
   LkOptions o;

@@ -1,4 +1,4 @@
-#include "dynamic/sgdo/fundamental.h"
+#include "geometry/fundamental.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
@@ -8,7 +8,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace dynref::sgdo {
+namespace dynref::geometry {
 namespace {
 
 // Hartley normalisation: centroid to origin, mean distance sqrt(2).
@@ -260,4 +260,4 @@ RansacResult RansacFundamental(const std::vector<Correspondence>& points,
   return best;
 }
 
-}  // namespace dynref::sgdo
+}  // namespace dynref::geometry

@@ -9,7 +9,7 @@
 
 #include "core/rng.h"
 
-namespace dynref::sgdo {
+namespace dynref::geometry {
 
 struct Correspondence {
   Eigen::Vector2d p_prev;  // P1
@@ -58,4 +58,4 @@ struct RansacResult {
 RansacResult RansacFundamental(const std::vector<Correspondence>& points,
                                const RansacOptions& options, Rng& rng);
 
-}  // namespace dynref::sgdo
+}  // namespace dynref::geometry

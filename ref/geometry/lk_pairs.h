@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace dynref::sgdo {
+namespace dynref::geometry {
 
 struct LkOptions {
   int window_px = 21;   // not stated: OpenCV default
@@ -46,4 +46,4 @@ double PatchSad3x3(const cv::Mat& prev_grey, const cv::Mat& cur_grey, cv::Point2
 void PrunePair(const cv::Mat& prev_grey, const cv::Mat& cur_grey, bool in_mask,
                const LkOptions& options, LkPair& pair);
 
-}  // namespace dynref::sgdo
+}  // namespace dynref::geometry

@@ -1,0 +1,37 @@
+#include "method/frame_edit.h"
+
+#include <stdexcept>
+
+namespace dynref {
+
+void FrameEdit::RequireFeatures(const char* what) const {
+  if (hook_ == Hook::kBeforeExtraction)
+    throw std::logic_error(std::string(what) + " before feature extraction (hook before_extraction)");
+}
+
+void FrameEdit::Exclude(int i, const std::string& stage, const std::string& reason) {
+  RequireFeatures("FrameEdit::Exclude");
+  frame_.Exclude(i, stage, reason);
+}
+
+void FrameEdit::SetWeight(int i, double w) {
+  RequireFeatures("FrameEdit::SetWeight");
+  frame_.SetWeight(i, w);
+}
+
+void FrameEdit::SetPointDynamicProbability(int64_t mp_id, double p, const std::string& stage) {
+  MapPoint* mp = map_.mp(mp_id);
+  if (mp == nullptr) throw std::logic_error("SetPointDynamicProbability: no map point " + std::to_string(mp_id));
+  if (!(p >= 0.0 && p <= 1.0)) throw std::logic_error("SetPointDynamicProbability: p outside [0, 1]");
+  mp->dynamic.p_dynamic = p;
+  mp->dynamic.frame = frame_.index;
+  mp->dynamic.stage = stage;
+}
+
+cv::Mat& FrameEdit::grey_for_extraction() {
+  if (hook_ != Hook::kBeforeExtraction)
+    throw std::logic_error("FrameEdit::grey_for_extraction outside the before_extraction hook");
+  return frame_.grey;
+}
+
+}  // namespace dynref

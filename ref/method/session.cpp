@@ -1,0 +1,69 @@
+#include "method/session.h"
+
+#include <exception>
+
+#include "core/error.h"
+
+namespace dynref {
+
+Session::Session(const std::string& config_path, const std::vector<StageConfig>& components,
+                 const MethodRegistry& registry) {
+  for (const StageConfig& sc : components) {
+    Component c;
+    if (const StageFactory* f = registry.FindStage(sc.name)) {
+      c.stage = (*f)(sc.params, shared_);
+      stages_.push_back(c.stage.get());
+    } else if (const MapModuleFactory* m = registry.FindMapModule(sc.name)) {
+      c.map_module = (*m)(sc.params, shared_);
+      map_modules_.push_back(c.map_module.get());
+    } else {
+      std::string known;
+      for (const std::string& n : registry.Names()) known += (known.empty() ? "" : ", ") + n;
+      throw InputError(config_path, sc.params.line,
+                       "unknown stage '" + sc.name + "' (known: " + (known.empty() ? "none" : known) + ")");
+    }
+    components_.push_back(std::move(c));
+  }
+}
+
+Session::~Session() = default;
+
+void Session::Run(Hook hook, StageContext& ctx) {
+  ctx.frame.set_hook(hook);
+  if (ctx.new_keyframe_edit != nullptr) ctx.new_keyframe_edit->set_hook(hook);
+  for (Stage* s : stages_)
+    if (s->hook() == hook) s->Run(ctx);
+}
+
+void Session::OnKeyFrame(const MapModuleContext& ctx) {
+  for (MapModule* m : map_modules_) m->OnKeyFrame(ctx);
+}
+
+void Session::OnMapUpdate(const MapModuleContext& ctx) {
+  for (MapModule* m : map_modules_) m->OnMapUpdate(ctx);
+}
+
+void Session::OnLandmarkEvent(const LandmarkEvent& event) {
+  for (Component& c : components_) {
+    if (c.stage) c.stage->OnLandmarkEvent(event);
+    if (c.map_module) c.map_module->OnLandmarkEvent(event);
+  }
+}
+
+SessionEnd Session::Finish(const Map& map, const std::string& out_dir) {
+  SessionEnd out;
+  RunEnd end(out_dir);
+  for (Component& c : components_) {
+    const std::string name = c.stage ? c.stage->name() : c.map_module->name();
+    try {
+      if (c.stage) c.stage->Finish(end);
+      else c.map_module->Finish(map, end);
+    } catch (const std::exception& e) {
+      out.errors.push_back(name + ": " + e.what());
+    }
+  }
+  out.outputs = end.outputs();
+  return out;
+}
+
+}  // namespace dynref

@@ -1,0 +1,146 @@
+// The table of backbone keys; see backbone_options.h.
+#include "pipeline/backbone_options.h"
+
+#include <functional>
+
+#include "core/error.h"
+
+namespace dynref {
+namespace {
+
+// One backbone key: default text, source, and how a (validated) value is stored.
+struct KeyRow {
+  const char* key;
+  const char* default_value;
+  const char* source;
+  enum class Kind { kInt, kDouble, kBool } kind;
+  double lo, hi;        // inclusive range (kInt: checked before the int conversion); unused for kBool
+  bool lo_open;         // kDouble: lo excluded (e.g. scale_factor > 1)
+  std::function<void(BackboneOptions&, double)> set;
+};
+
+using K = KeyRow::Kind;
+const double kMaxExactInt = 9007199254740992.0;  // 2^53: every integer below is exact in a double
+
+// ORB-SLAM2 defaults (Examples/RGB-D/TUM*.yaml, src/Tracking.cc, src/Optimizer.cc). Ranges:
+// n_features: the extractor reserves 10 * n_features candidates per level (int arithmetic);
+// 100000 is 100x the default. n_levels: one image and scale per level, 16 as OrbOptions::Check.
+// FAST thresholds are 8-bit intensity differences. Frame counts are added to frame indices
+// (int); 100000 frames (55 min at 30 fps) keeps the sums far from overflow.
+const std::vector<KeyRow>& Rows() {
+  static const std::vector<KeyRow> rows = {
+      {"ba_chi2_mono", "5.991", "default: ORB-SLAM2 Optimizer::LocalBundleAdjustment 95 % chi2 (2 dof)", K::kDouble, 0, 1e9, true,
+       [](BackboneOptions& o, double v) { o.mapper.ba.chi2_mono = v; }},
+      {"ba_chi2_stereo", "7.815", "default: ORB-SLAM2 Optimizer::LocalBundleAdjustment 95 % chi2 (3 dof)", K::kDouble, 0, 1e9, true,
+       [](BackboneOptions& o, double v) { o.mapper.ba.chi2_stereo = v; }},
+      {"ba_iterations_refine", "10", "default: ORB-SLAM2 Optimizer::LocalBundleAdjustment optimize(10) without outliers", K::kInt, 0, 1000, false,
+       [](BackboneOptions& o, double v) { o.mapper.ba.iterations_refine = static_cast<int>(v); }},
+      {"ba_iterations_robust", "5", "default: ORB-SLAM2 Optimizer::LocalBundleAdjustment optimize(5) with Huber", K::kInt, 0, 1000, false,
+       [](BackboneOptions& o, double v) { o.mapper.ba.iterations_robust = static_cast<int>(v); }},
+      {"camera_rgb_flag", "true",
+       "default: ORB-SLAM2 TUM1-3.yaml Camera.RGB: 1 applied to cv::imread's BGR images "
+       "(Tracking::GrabImageRGBD converts with CV_RGB2GRAY, so blue gets red's weight); "
+       "false = luminance of the true colours (COLOR_BGR2GRAY)",
+       K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.camera_rgb_flag = v != 0; }},
+      {"ini_th_fast", "20", "default: ORB-SLAM2 ORBextractor.iniThFAST", K::kInt, 1, 255, false,
+       [](BackboneOptions& o, double v) { o.orb.ini_th_fast = static_cast<int>(v); }},
+      {"keyframe_culling", "true", "default: ORB-SLAM2 LocalMapping::KeyFrameCulling", K::kBool, 0, 0, false,
+       [](BackboneOptions& o, double v) { o.mapper.keyframe_culling = v != 0; }},
+      {"local_ba", "true", "default: ORB-SLAM2 local mapping runs local BA", K::kBool, 0, 0, false,
+       [](BackboneOptions& o, double v) { o.mapper.local_ba = v != 0; }},
+      {"max_frames", "30", "default: ORB-SLAM2 mMaxFrames = Camera.fps (30)", K::kInt, 1, 100000, false,
+       [](BackboneOptions& o, double v) { o.tracker.max_frames = static_cast<int>(v); }},
+      {"min_init_points", "500", "default: ORB-SLAM2 Tracking::StereoInitialization N > 500", K::kInt, 1, 100000, false,
+       [](BackboneOptions& o, double v) { o.tracker.min_init_points = static_cast<int>(v); }},
+      {"min_th_fast", "7", "default: ORB-SLAM2 ORBextractor.minThFAST", K::kInt, 1, 255, false,
+       [](BackboneOptions& o, double v) { o.orb.min_th_fast = static_cast<int>(v); }},
+      {"n_features", "1000", "default: ORB-SLAM2 TUM RGB-D settings ORBextractor.nFeatures", K::kInt, 1, 100000, false,
+       [](BackboneOptions& o, double v) { o.orb.n_features = static_cast<int>(v); }},
+      {"n_levels", "8", "default: ORB-SLAM2 ORBextractor.nLevels", K::kInt, 1, 16, false,
+       [](BackboneOptions& o, double v) { o.orb.n_levels = static_cast<int>(v); }},
+      {"pose_chi2_mono", "5.991", "default: ORB-SLAM2 Optimizer::PoseOptimization 95 % chi2 (2 dof)", K::kDouble, 0, 1e9, true,
+       [](BackboneOptions& o, double v) { o.tracker.pose.chi2_mono = v; }},
+      {"pose_chi2_stereo", "7.815", "default: ORB-SLAM2 Optimizer::PoseOptimization 95 % chi2 (3 dof)", K::kDouble, 0, 1e9, true,
+       [](BackboneOptions& o, double v) { o.tracker.pose.chi2_stereo = v; }},
+      {"pose_iterations", "10", "default: ORB-SLAM2 Optimizer::PoseOptimization optimize(its[it]) with its = 10", K::kInt, 1, 1000, false,
+       [](BackboneOptions& o, double v) { o.tracker.pose.iterations = static_cast<int>(v); }},
+      {"pose_min_edges", "10", "default: ORB-SLAM2 Optimizer::PoseOptimization stops when optimizer.edges().size() < 10", K::kInt, 0, 100000, false,
+       [](BackboneOptions& o, double v) { o.tracker.pose.min_edges = static_cast<int>(v); }},
+      {"pose_rounds", "4", "default: ORB-SLAM2 Optimizer::PoseOptimization 4 rounds", K::kInt, 1, 100, false,
+       [](BackboneOptions& o, double v) { o.tracker.pose.rounds = static_cast<int>(v); }},
+      {"reloc_recent_keyframes", "10",
+       "not stated: dynref has no BoW database; relocalisation tries the 10 most recent keyframes", K::kInt, 1, 100000, false,
+       [](BackboneOptions& o, double v) { o.tracker.reloc_recent_keyframes = static_cast<int>(v); }},
+      {"scale_factor", "1.2", "default: ORB-SLAM2 ORBextractor.scaleFactor", K::kDouble, 1, 1e9, true,
+       [](BackboneOptions& o, double v) { o.orb.scale_factor = v; }},
+      {"seed", "1", "not stated: seed of dynref's named RNG streams (relocalisation RANSAC)", K::kInt, 0, kMaxExactInt, false,
+       [](BackboneOptions& o, double v) { o.tracker.seed = static_cast<uint64_t>(v); }},
+  };
+  return rows;
+}
+
+std::string RangeText(const KeyRow& r) {
+  if (r.kind == K::kInt)
+    return "must be in " + std::to_string(static_cast<int64_t>(r.lo)) + ".." + std::to_string(static_cast<int64_t>(r.hi));
+  return std::string("must be ") + (r.lo_open ? "> " : ">= ") + (r.lo == 1 ? "1" : "0");
+}
+
+// Value of a validated param as a double (bools 0/1).
+double ReadValue(const KeyRow& r, const Param& p) {
+  auto bad = [&](const std::string& what) {
+    throw InputError(p.file, p.line, std::string("backbone.") + r.key + ": " + what);
+  };
+  if (r.kind == K::kBool) return p.AsBool() ? 1.0 : 0.0;
+  const double v = p.AsDouble();
+  const bool below = r.lo_open ? !(v > r.lo) : !(v >= r.lo);
+  if (below || !(v <= r.hi)) bad(RangeText(r) + ", got " + p.value);
+  if (r.kind == K::kInt) (void)p.AsInt();  // integral (after the range check: no wrap-around)
+  return v;
+}
+
+}  // namespace
+
+void BackboneOptions::Check() const {
+  orb.Check();
+  tracker.Check();
+  mapper.Check();
+}
+
+std::vector<BackboneKeyInfo> BackboneKeys() {
+  std::vector<BackboneKeyInfo> out;
+  for (const KeyRow& r : Rows()) out.push_back({r.key, r.default_value, r.source});
+  return out;
+}
+
+BackboneOptions ResolveBackbone(const std::map<std::string, Param>& given, const std::string& config_path,
+                                std::map<std::string, Param>* resolved) {
+  for (const auto& [key, p] : given) {
+    bool known = false;
+    for (const KeyRow& r : Rows()) known = known || key == r.key;
+    if (!known) throw InputError(p.file, p.line, "unknown backbone key '" + key + "'");
+  }
+  BackboneOptions o;
+  std::map<std::string, Param> all;
+  for (const KeyRow& r : Rows()) {
+    auto it = given.find(r.key);
+    Param p;
+    if (it != given.end()) {
+      p = it->second;
+    } else {
+      p.value = r.default_value;
+      p.source = r.source;
+      p.file = config_path;
+    }
+    r.set(o, ReadValue(r, p));
+    all[r.key] = p;
+  }
+  if (o.orb.min_th_fast > o.orb.ini_th_fast) {
+    const Param& p = all.at("min_th_fast");
+    throw InputError(p.file, p.line, "backbone.min_th_fast: need 1 <= min_th_fast <= ini_th_fast");
+  }
+  o.Check();
+  if (resolved != nullptr) *resolved = std::move(all);
+  return o;
+}
+
+}  // namespace dynref

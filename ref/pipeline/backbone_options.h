@@ -1,0 +1,40 @@
+// Typed backbone options (issue 12): one struct with the ORB-SLAM2 defaults, read once from a
+// config's `backbone:` map through a single table of keys (backbone_options.cpp), so that a new
+// backbone parameter is one struct field plus one table row. Each key's default and source are
+// recorded in the resolved config (run.json, trace header).
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+#include "features/orb_extractor.h"
+#include "mapping/local_mapper.h"
+#include "method/params.h"
+#include "tracking/tracker.h"
+
+namespace dynref {
+
+struct BackboneOptions {
+  features::OrbOptions orb;
+  tracking::TrackerOptions tracker;    // includes the pose-only optimisation options
+  mapping::LocalMapperOptions mapper;  // includes the local BA options
+  // ORB-SLAM2 TUM1-3.yaml Camera.RGB: 1 applied to cv::imread's BGR images (see the key's source).
+  bool camera_rgb_flag = true;
+  void Check() const;  // InputError naming the bad field
+};
+
+struct BackboneKeyInfo {
+  std::string key;
+  std::string default_value;  // as written in the resolved config
+  std::string source;         // ORB-SLAM2 file / function the default comes from
+};
+// Every backbone key, in name order.
+std::vector<BackboneKeyInfo> BackboneKeys();
+
+// Fills `params` with every backbone key (given ones as given, the others with their default and
+// source, file = config path) and returns the typed options. InputError (file:line) for an
+// unknown key, a value of the wrong type or out of range.
+BackboneOptions ResolveBackbone(const std::map<std::string, Param>& given, const std::string& config_path,
+                                std::map<std::string, Param>* resolved);
+
+}  // namespace dynref

@@ -1,0 +1,150 @@
+// The frame loop; see frame_loop.h and method/hooks.h for the order of steps and hooks.
+#include "pipeline/frame_loop.h"
+
+#include <time.h>
+
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+
+#include "core/error.h"
+#include "core/format.h"
+#include "method/frame_edit.h"
+
+namespace dynref {
+namespace {
+
+// Module timings use the thread's CPU clock (the run is single-threaded), so they measure the
+// work done and not the load of the machine. They go to run.json only, never into results.
+double NowMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+}  // namespace
+
+FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session& session, trace::TraceWriter& trace)
+    : options_(options),
+      inputs_(inputs),
+      session_(session),
+      trace_(trace),
+      camera_(inputs.sequence.camera),
+      extractor_(inputs.config->backbone.orb),
+      pyramid_(ScalePyramid::Make(inputs.config->backbone.orb.n_levels, inputs.config->backbone.orb.scale_factor)),
+      rgb_flag_(inputs.config->backbone.camera_rgb_flag),
+      tracker_(camera_, map_, inputs.config->backbone.tracker, trace),
+      mapper_(map_, camera_, inputs.config->backbone.mapper, trace) {
+  map_.AddObserver(&session_);  // landmark events reach the method's components
+}
+
+FrameLoop::~FrameLoop() { map_.RemoveObserver(&session_); }
+
+bool FrameLoop::Process(size_t k) {
+  const FrameEntry& e = inputs_.frames[k];
+  trace_.BeginFrame(e.index, e.rgb_stamp);
+  const double t0 = NowMs();
+  Frame f;
+  f.index = e.index;
+  f.stamp = e.rgb_stamp;
+  f.stamp_text = e.rgb_stamp_text;
+  f.trace = &trace_;
+  FrameDetections dets;
+  try {
+    inputs_.LoadFrame(e, options_, f, dets);
+    const double t_loaded = NowMs();
+    // f.rgb is BGR (cv::imread). ORB-SLAM2's rgbd_tum with Camera.RGB: 1 (TUM1-3.yaml) converts
+    // those BGR images with CV_RGB2GRAY, so blue gets red's weight; backbone.camera_rgb_flag
+    // reproduces that grey image (default), false gives the true luminance.
+    cv::cvtColor(f.rgb, f.grey, rgb_flag_ ? cv::COLOR_RGB2GRAY : cv::COLOR_BGR2GRAY);
+    if (cv::countNonZero(f.depth_m > 0) == 0) ++n_zero_depth_;
+    const Frame* prev = tracker_.last_frame();
+    const bool was_lost = tracker_.state() == tracking::TrackState::kLost;
+    const bool initialised = tracker_.state() != tracking::TrackState::kNotInitialised;
+    FrameEdit edit(f, map_, Hook::kBeforeExtraction);
+    StageContext ctx{edit, prev, tracker_.reference_kf(), map_, camera_, trace_, initialised, was_lost};
+    const cv::Size grey_size = f.grey.size();
+    session_.Run(Hook::kBeforeExtraction, ctx);
+    if (f.grey.type() != CV_8U || f.grey.size() != grey_size)
+      throw std::logic_error("a before_extraction stage changed the grey image's size or type");
+    extractor_.Extract(f.grey, &f.keys, &f.descriptors);
+    f.pyramid = pyramid_;
+    f.FinishFeatures(camera_);
+    const double t1 = NowMs();
+    trace_.FrameCount("extract", "keypoints", static_cast<int64_t>(f.N()));
+    session_.Run(Hook::kAfterExtraction, ctx);
+    session_.Run(Hook::kBeforeInitialPose, ctx);
+    if (f.ExcludedCount() == static_cast<int>(f.N()) && f.N() > 0) ++n_all_excluded_;
+
+    bool ok = false;
+    KeyFrame* new_kf = nullptr;
+    double ba_ms = 0;
+    std::string lost_reason;
+    if (!initialised) {
+      new_kf = tracker_.TryInitialise(f);
+      ok = new_kf != nullptr;
+      if (!ok) lost_reason = "not-initialised";
+      if (ok) trace_.FramePose("initial", f.T_cw.inverse());
+    } else {
+      ok = tracker_.TrackInitial(f);
+      if (ok) {
+        trace_.FramePose("initial", f.T_cw.inverse());
+        ctx.reference_kf = tracker_.reference_kf();
+        session_.Run(Hook::kAfterInitialPose, ctx);
+        tracker_.SearchLocalMap(f);
+        ctx.reference_kf = tracker_.reference_kf();
+        session_.Run(Hook::kBeforeFinalPose, ctx);
+        ok = tracker_.OptimizeFinal(f);
+        if (!ok) lost_reason = "lost: local map tracking failed";
+      } else {
+        lost_reason = was_lost ? "lost: relocalisation failed" : "lost: initial pose failed";
+      }
+      if (ok && tracker_.NeedNewKeyFrame(f)) new_kf = tracker_.CreateNewKeyFrame(f);
+    }
+    const double t2 = NowMs();
+    if (ok) trace_.FramePose("final", f.T_cw.inverse());
+    if (trace_.full_enabled()) {
+      for (size_t i = 0; i < f.N(); ++i) {
+        const cv::KeyPoint& kp = f.keys_un[i];
+        const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
+        trace_.Observation(static_cast<int64_t>(i), mp, kp.pt.x, kp.pt.y, f.depth[i] > 0 ? f.depth[i] : 0.0,
+                           kp.octave, Fnv1a64(f.descriptors.ptr<uint8_t>(static_cast<int>(i)), 32));
+      }
+    }
+    if (new_kf != nullptr) {
+      FrameEdit kf_edit(new_kf->frame, map_, Hook::kOnKeyFrameCreated);
+      ctx.new_keyframe = new_kf;
+      ctx.new_keyframe_edit = &kf_edit;
+      ctx.reference_kf = tracker_.reference_kf();
+      session_.Run(Hook::kOnKeyFrameCreated, ctx);
+      const MapModuleContext mctx{f, *new_kf, map_, camera_, trace_};
+      session_.OnKeyFrame(mctx);
+      ba_ms = mapper_.ProcessKeyFrame(new_kf->id).ba_ms;
+      session_.Run(Hook::kOnMapUpdate, ctx);
+      session_.OnMapUpdate(mctx);
+      ctx.new_keyframe_edit = nullptr;
+    }
+    const double t3 = NowMs();
+    trace_.FrameCount("features", "excluded", f.ExcludedCount());
+    trace_.FrameCount("track", "ok", ok ? 1 : 0);
+    trace_.FrameCount("track", "keyframe", new_kf != nullptr ? 1 : 0);
+    tracker_.FinishFrame(f, ok);
+    const double t4 = NowMs();
+    timings_.load.push_back(t_loaded - t0);
+    timings_.extraction.push_back(t1 - t_loaded);
+    timings_.tracking.push_back((t2 - t1) + (t4 - t3));
+    timings_.mapping.push_back((t3 - t2) - ba_ms);
+    timings_.ba.push_back(ba_ms);
+    timings_.slam.push_back(t4 - t_loaded);
+    timings_.total.push_back(t4 - t0);
+    ++result_.frames;
+    if (ok) ++result_.tracked;
+    else lost_reasons_.emplace_back(static_cast<int>(k), lost_reason);
+    return true;
+  } catch (const std::exception& err) {
+    result_.end_state = "error: frame " + std::to_string(e.index) + " (" + e.rgb_stamp_text + "): " + err.what();
+    result_.exit_code = kExitBadInput;
+    return false;
+  }
+}
+
+}  // namespace dynref

@@ -1,0 +1,62 @@
+// The backbone's per-frame work (hooks in method/hooks.h): load, before-extraction stages, ORB
+// extraction, tracking with the method's stages between its steps, keyframe decision, map
+// modules and sequential local mapping. One FrameLoop per run; it owns the map, the tracker and
+// the local mapper, and counts what run.json reports.
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "features/orb_extractor.h"
+#include "map/map.h"
+#include "mapping/local_mapper.h"
+#include "method/session.h"
+#include "pipeline/pipeline.h"
+#include "pipeline/run_inputs.h"
+#include "trace/trace_writer.h"
+#include "tracking/tracker.h"
+
+namespace dynref {
+
+// Per-frame module times in ms of thread CPU time (run.json only, never in results).
+struct ModuleTimings {
+  std::vector<double> load, extraction, tracking, mapping, ba, slam, total;
+};
+
+class FrameLoop {
+ public:
+  FrameLoop(const RunOptions& options, const RunInputs& inputs, Session& session, trace::TraceWriter& trace);
+  ~FrameLoop();
+  // Processes inputs.frames[k]. Bad input mid-run (an unreadable frame, a detection mask of the
+  // wrong size, a stage rejecting its input) ends the run cleanly: returns false with
+  // result().end_state = "error: frame N (stamp): ..." and exit code 2.
+  bool Process(size_t k);
+
+  const Map& map() const { return map_; }
+  const tracking::Tracker& tracker() const { return tracker_; }
+  const mapping::LocalMapper& mapper() const { return mapper_; }
+  RunResult& result() { return result_; }
+  const std::vector<std::pair<int, std::string>>& lost_reasons() const { return lost_reasons_; }
+  const ModuleTimings& timings() const { return timings_; }
+  int frames_zero_depth() const { return n_zero_depth_; }
+  int frames_all_excluded() const { return n_all_excluded_; }
+
+ private:
+  const RunOptions& options_;
+  const RunInputs& inputs_;
+  Session& session_;
+  trace::TraceWriter& trace_;
+  const Camera& camera_;
+  features::OrbExtractor extractor_;
+  ScalePyramid pyramid_;
+  bool rgb_flag_;
+  Map map_;
+  tracking::Tracker tracker_;
+  mapping::LocalMapper mapper_;
+  RunResult result_;
+  std::vector<std::pair<int, std::string>> lost_reasons_;  // frame position -> reason
+  ModuleTimings timings_;
+  int n_zero_depth_ = 0, n_all_excluded_ = 0;
+};
+
+}  // namespace dynref

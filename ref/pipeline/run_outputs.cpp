@@ -1,0 +1,111 @@
+#include "pipeline/run_outputs.h"
+
+#include <algorithm>
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "core/version.h"
+#include "io/trajectory.h"
+
+namespace dynref {
+namespace {
+
+nlohmann::json Summary(std::vector<double> v) {
+  nlohmann::json j;
+  if (v.empty()) return j;
+  double sum = 0;
+  for (double x : v) sum += x;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  j["median_ms_per_frame"] = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  j["mean_ms_per_frame"] = sum / n;
+  return j;
+}
+
+}  // namespace
+
+void WriteTrajectoryFiles(const std::string& out_dir, const RunInputs& inputs, FrameLoop& loop) {
+  const Map& map = loop.map();
+  const auto& records = loop.tracker().records();
+  std::vector<StampedPose> traj;
+  for (const tracking::FrameRecord& r : records) {
+    if (r.lost) continue;
+    const SE3 T_cw = r.T_cr * map.ResolvedT_cw(r.ref_kf);
+    traj.push_back({r.stamp, T_cw.inverse()});
+  }
+  std::vector<StampedPose> kfs;
+  for (const auto& [id, kf] : map.keyframes) {
+    (void)id;
+    if (!kf->bad) kfs.push_back({kf->stamp, kf->T_cw.inverse()});
+  }
+  WriteTumTrajectory(out_dir + "/trajectory.txt", traj);
+  WriteTumTrajectory(out_dir + "/keyframes.txt", kfs);
+  AtomicOutputFile lost(out_dir + "/lost.txt");
+  lost.stream() << "# frames without a pose: index stamp reason\n";
+  for (const auto& [pos, reason] : loop.lost_reasons())
+    lost.stream() << inputs.frames[pos].index << " " << inputs.frames[pos].rgb_stamp_text << " " << reason << "\n";
+  lost.Commit();
+
+  RunResult& result = loop.result();
+  result.lost = static_cast<int>(loop.lost_reasons().size());
+  for (const auto& kv : map.keyframes) result.keyframes += kv.second->bad ? 0 : 1;
+  if (result.end_state.empty()) {
+    if (result.tracked == 0) {
+      result.end_state = loop.frames_zero_depth() == result.frames
+                             ? "never-initialised: depth is zero in every frame"
+                             : "never-initialised: no frame had enough features with depth";
+      result.exit_code = kExitBadInput;
+    } else if (!records.empty() && records.back().lost) {
+      result.end_state = "lost-at-end";
+    } else {
+      result.end_state = "complete";
+    }
+  }
+}
+
+void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop& loop, const SessionEnd& end) {
+  const MethodConfig& cfg = *inputs.config;
+  const Camera& camera = inputs.sequence.camera;
+  const RunResult& result = loop.result();
+  const ModuleTimings& t = loop.timings();
+  nlohmann::json j;
+  j["sequence"] = inputs.sequence_abs;
+  j["method"] = cfg.method;
+  j["detections"] = inputs.detections_abs;
+  j["detector"] = inputs.detector_name;
+  j["config"] = nlohmann::json::parse(cfg.ToJson());
+  j["camera"] = {{"name", camera.name}, {"fx", camera.fx}, {"fy", camera.fy}, {"cx", camera.cx},
+                 {"cy", camera.cy}, {"bf", camera.bf}, {"th_depth", camera.th_depth},
+                 {"depth_factor", camera.depth_factor}};
+  j["frames_in_sequence"] = inputs.sequence.frames.size();
+  j["frames_processed"] = result.frames;
+  j["frames_tracked"] = result.tracked;
+  j["frames_lost"] = result.lost;
+  j["frames_zero_depth"] = loop.frames_zero_depth();
+  j["frames_all_features_excluded"] = loop.frames_all_excluded();
+  j["tracking_rate"] = result.frames > 0 ? static_cast<double>(result.tracked) / result.frames : 0.0;
+  j["keyframes"] = result.keyframes;
+  j["map_points"] = loop.map().GoodPointCount();
+  j["local_ba_calls"] = loop.mapper().ba_calls();
+  j["trace_level"] = options.trace_level;
+  j["timing_clock"] =
+      "thread CPU time (CLOCK_THREAD_CPUTIME_ID), ms per processed frame; load = PNG decoding (+ detections), "
+      "extraction = grey + before_extraction stages + ORB + undistortion + depth lookup, tracking includes the "
+      "method stages, slam = everything after load (ORB-SLAM2's TrackRGBD span plus the sequential local "
+      "mapping), total = load + slam";
+  j["timing"] = {{"load", Summary(t.load)}, {"extraction", Summary(t.extraction)}, {"tracking", Summary(t.tracking)},
+                 {"local_mapping", Summary(t.mapping)}, {"ba", Summary(t.ba)},
+                 {"slam", Summary(t.slam)}, {"total", Summary(t.total)}};
+  nlohmann::json outputs = nlohmann::json::array();
+  for (const RunOutput& o : end.outputs) outputs.push_back({{"module", o.module}, {"path", o.path}, {"what", o.what}});
+  j["outputs"] = outputs;
+  j["output_errors"] = end.errors;
+  j["end_state"] = result.end_state;
+  j["dynref_version"] = DYNREF_VERSION;
+  j["dynref_commit"] = DYNREF_GIT_COMMIT;
+  // Paths and config sources are user text: invalid UTF-8 is written as U+FFFD, not an error.
+  AtomicWriteFile(options.out_dir + "/run.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+}
+
+}  // namespace dynref

@@ -1,0 +1,22 @@
+// A paper's table as CSV (reports/paper-tables/*.csv, copied from ../shared/paper-tables):
+// '#' comments, a header line, then one row per line; cells addressed by row name and column.
+#pragma once
+#include <map>
+#include <string>
+#include <vector>
+
+namespace dynref::reproduce {
+
+struct PaperTable {
+  std::vector<std::string> header;
+  std::map<std::string, std::vector<std::string>> rows;  // first cell -> cells
+  // The cell as a number; NaN when the row or column is missing.
+  double Cell(const std::string& row, const std::string& column) const;
+};
+
+// InputError naming the file when it cannot be opened.
+PaperTable ReadPaperTable(const std::string& path);
+// reports/paper-tables in the source tree.
+std::string PaperTableDir();
+
+}  // namespace dynref::reproduce

@@ -1,0 +1,22 @@
+// Number formatting of the Markdown reports (deterministic, no locale).
+#pragma once
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "core/format.h"
+
+namespace dynref::reproduce {
+
+// Fixed decimals, "-" for NaN/inf.
+inline std::string Num(double v, int decimals = 4) { return std::isfinite(v) ? FormatFixed(v, decimals) : "-"; }
+// Shortest %g form: 0.1 -> "0.1", 100 -> "100" (names and headers only, never results).
+inline std::string Short(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "%g", v);
+  return buf;
+}
+// 100 num / den with one decimal, "-" when den = 0.
+inline std::string Pct(double num, double den) { return den > 0 ? FormatFixed(100.0 * num / den, 1) : "-"; }
+
+}  // namespace dynref::reproduce

@@ -1,0 +1,51 @@
+// `dynref reproduce sgdo-table6`: the SGDO-SLAM ablation (seed 001, Table 6) on synthetic
+// analogues of the TUM sequences, end to end: synthesise each sequence with detections, run orb +
+// every sgdo variant (configs/sgdo*.yaml, configs as data: no YAML is edited), ATE (TUM
+// evaluate_ate.py semantics, ref/eval), precision/recall of the rejected features against the
+// synthetic ground-truth motion labels, ATE sensitivity to eta and lambda, an overlay montage of
+// a walking frame, and a Markdown report with the paper's numbers beside ours
+// (reports/paper-tables/001-table{1,6}.csv). Everything written is deterministic (no clock).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "pipeline/method_config.h"
+
+namespace dynref::reproduce {
+
+struct Table6Args {
+  std::string out = "reports/sgdo_table6.md";
+  std::string work = "dynref-work/sgdo-table6";
+  int frames = 300;
+  uint64_t seed = 1;
+  std::string detections = "yolo-like";
+  std::vector<std::string> sequences = {"walking_xyz", "walking_static", "walking_rpy",
+                                        "walking_halfsphere", "sitting_static"};
+  std::vector<std::string> sensitivity = {"walking_xyz"};
+  bool reuse = false;
+  bool no_overlay = false;
+};
+
+// One column of the table: a config (configs/<config_name>.yaml, minus the stages in `drop`),
+// its label, and the paper's column prefix in Table 6 ("" = not in Table 6).
+struct Variant {
+  std::string config_name, label, paper;
+  std::vector<std::string> drop;  // stages/map modules removed (e.g. the dense map: no effect on tracking)
+  std::string run_name;           // run folder name under runs/<preset>/
+  MethodConfig Config() const;
+};
+const std::vector<Variant>& Table6Variants();
+constexpr size_t kFullVariant = 7;  // (S+G+D+O) in Table6Variants()
+// (eta, lambda) pairs of the sensitivity sweep, and the (S+G+D+O) config with those values.
+std::vector<std::pair<double, double>> SensitivityGrid();
+MethodConfig SensitivityConfig(double eta, double lambda);
+
+// Paper row names of a synthetic preset (Table 6, Table 1); empty when it has none.
+std::pair<std::string, std::string> PaperRows(const std::string& preset);
+
+// Checks every argument first (InputError naming the option), then runs and writes the report.
+int RunSgdoTable6(const Table6Args& args);
+
+}  // namespace dynref::reproduce

@@ -1,0 +1,53 @@
+// The working folder of a reproduction: synthetic sequences (one per preset, re-synthesised when
+// their arguments change) and runs (one per variant, reused with --reuse when the sequence and the
+// resolved config are unchanged), each marked with the key it was made from.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <set>
+#include <string>
+
+#include "eval/statistics.h"
+#include "pipeline/method_config.h"
+
+namespace dynref::reproduce {
+
+struct SynthSpec {
+  int frames = 300;
+  uint64_t seed = 1;
+  std::string detections = "yolo-like";  // synthetic detection mode (SEQ/detections/<mode>)
+};
+
+// One run of one variant on one sequence, evaluated.
+struct RunSummary {
+  std::string method, label, run_dir, end_state;
+  int frames = 0, tracked = 0, keyframes = 0;
+  bool has_ate = false;
+  std::string ate_problem;
+  ErrorStats ate;
+  bool has_pr = false;  // precision/recall of rejected features (methods with stages)
+  int64_t tp = 0, fp = 0, fn = 0, tn = 0;
+};
+
+class Workspace {
+ public:
+  Workspace(std::string dir, SynthSpec spec, bool reuse);
+  const std::string& dir() const { return dir_; }
+  const SynthSpec& spec() const { return spec_; }
+  // SEQ = <dir>/seq/<preset>, synthesised unless current (InputError when the folder exists and
+  // was not written by reproduce).
+  std::string EnsureSequence(const std::string& preset);
+  // Runs `config` on seq_dir into <dir>/runs/<run_name> (trace level full when the config has
+  // stages), then ATE against ground truth and, for configs with stages, the precision/recall of
+  // the features they rejected (trace Decision kept=false of any stage) against SEQ/gt/moving.txt.
+  RunSummary Run(const std::string& seq_dir, const std::string& run_name, const MethodConfig& config,
+                 const std::string& label);
+
+ private:
+  std::string dir_;
+  SynthSpec spec_;
+  bool reuse_;
+  std::set<std::string> made_;  // sequences synthesised by this Workspace (never twice)
+};
+
+}  // namespace dynref::reproduce

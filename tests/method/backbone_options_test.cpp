@@ -1,0 +1,74 @@
+// Typed backbone options (issue 12): the table of keys and the struct defaults agree, every key
+// reaches its field, pose and BA options are configurable.
+#include <catch2/catch.hpp>
+
+#include "core/error.h"
+#include "pipeline/backbone_options.h"
+
+using namespace dynref;
+
+namespace {
+
+Param P(const std::string& value) {
+  Param p;
+  p.value = value;
+  p.source = "test";
+  p.file = "t.yaml";
+  p.line = 5;
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("backbone options: every key's default equals the struct's default") {
+  std::map<std::string, Param> resolved;
+  const BackboneOptions o = ResolveBackbone({}, "t.yaml", &resolved);
+  const BackboneOptions d;
+  CHECK(resolved.size() == BackboneKeys().size());
+  CHECK(o.orb.n_features == d.orb.n_features);
+  CHECK(o.orb.scale_factor == d.orb.scale_factor);
+  CHECK(o.orb.n_levels == d.orb.n_levels);
+  CHECK(o.orb.ini_th_fast == d.orb.ini_th_fast);
+  CHECK(o.orb.min_th_fast == d.orb.min_th_fast);
+  CHECK(o.tracker.min_init_points == d.tracker.min_init_points);
+  CHECK(o.tracker.max_frames == d.tracker.max_frames);
+  CHECK(o.tracker.reloc_recent_keyframes == d.tracker.reloc_recent_keyframes);
+  CHECK(o.tracker.seed == d.tracker.seed);
+  CHECK(o.tracker.pose.rounds == d.tracker.pose.rounds);
+  CHECK(o.tracker.pose.iterations == d.tracker.pose.iterations);
+  CHECK(o.tracker.pose.chi2_mono == d.tracker.pose.chi2_mono);
+  CHECK(o.tracker.pose.chi2_stereo == d.tracker.pose.chi2_stereo);
+  CHECK(o.tracker.pose.min_edges == d.tracker.pose.min_edges);
+  CHECK(o.mapper.local_ba == d.mapper.local_ba);
+  CHECK(o.mapper.keyframe_culling == d.mapper.keyframe_culling);
+  CHECK(o.mapper.ba.iterations_robust == d.mapper.ba.iterations_robust);
+  CHECK(o.mapper.ba.iterations_refine == d.mapper.ba.iterations_refine);
+  CHECK(o.mapper.ba.chi2_mono == d.mapper.ba.chi2_mono);
+  CHECK(o.mapper.ba.chi2_stereo == d.mapper.ba.chi2_stereo);
+  CHECK(o.camera_rgb_flag == d.camera_rgb_flag);
+  for (const auto& [key, p] : resolved) {
+    INFO(key);
+    CHECK((p.source.rfind("default:", 0) == 0 || p.source.rfind("not stated:", 0) == 0));
+  }
+}
+
+TEST_CASE("backbone options: given values reach their fields, bad ones name file:line") {
+  const BackboneOptions o = ResolveBackbone(
+      {{"pose_rounds", P("2")}, {"ba_iterations_refine", P("3")}, {"pose_chi2_stereo", P("9.5")},
+       {"local_ba", P("false")}, {"n_features", P("3000")}},
+      "t.yaml", nullptr);
+  CHECK(o.tracker.pose.rounds == 2);
+  CHECK(o.mapper.ba.iterations_refine == 3);
+  CHECK(o.tracker.pose.chi2_stereo == 9.5);
+  CHECK_FALSE(o.mapper.local_ba);
+  CHECK(o.orb.n_features == 3000);
+  using Catch::Matchers::Contains;
+  CHECK_THROWS_WITH(ResolveBackbone({{"pose_rounds", P("0")}}, "t.yaml", nullptr),
+                    Contains("t.yaml:5: backbone.pose_rounds: must be in 1..100, got 0"));
+  CHECK_THROWS_WITH(ResolveBackbone({{"ba_chi2_mono", P("0")}}, "t.yaml", nullptr),
+                    Contains("backbone.ba_chi2_mono: must be > 0"));
+  CHECK_THROWS_WITH(ResolveBackbone({{"scale_factor", P("1")}}, "t.yaml", nullptr),
+                    Contains("backbone.scale_factor: must be > 1"));
+  CHECK_THROWS_WITH(ResolveBackbone({{"nope", P("1")}}, "t.yaml", nullptr), Contains("unknown backbone key 'nope'"));
+  CHECK_THROWS_AS(ResolveBackbone({{"local_ba", P("1")}}, "t.yaml", nullptr), InputError);
+}
