@@ -1,9 +1,16 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
 #include <unistd.h>
 
+#include <cerrno>
+
+#include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <system_error>
 #include <stdexcept>
@@ -95,6 +102,79 @@ void AtomicWriteFile(const std::string& path, const std::string& content) {
   AtomicOutputFile f(path, true);
   f.stream().write(content.data(), static_cast<std::streamsize>(content.size()));
   f.Commit();
+}
+
+bool IsAbsentOrEmptyDirectory(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(path, ec))) return true;
+  return fs::is_directory(path, ec) && fs::is_empty(path, ec) && !ec;
+}
+
+void PublishDirectory(const std::string& staged, const std::string& target, const std::string& shown,
+                      bool (*replaceable)(const std::string& dir), const std::string& refusal) {
+  namespace fs = std::filesystem;
+  if (!replaceable(target)) throw InputError(shown, refusal);
+  std::error_code ec;
+  const bool had_old = fs::exists(fs::symlink_status(target, ec));
+  const fs::path old = TempPathFor(target) + ".old";
+  if (had_old) {
+    fs::remove_all(old, ec);
+    fs::rename(target, old);  // throws filesystem_error naming the paths
+  }
+  try {
+    fs::rename(staged, target);
+  } catch (...) {
+    if (had_old) fs::rename(old, target, ec);  // put the previous output back
+    throw;
+  }
+  if (had_old) fs::remove_all(old, ec);
+}
+
+std::vector<std::string> RemoveStaleTemps(const std::string& target) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> removed;
+  const fs::path t(target);
+  const std::string prefix = t.filename().string() + ".tmp.";
+  std::error_code ec;
+  fs::directory_iterator it(t.parent_path().empty() ? fs::path(".") : t.parent_path(), ec);
+  if (ec) return removed;
+  std::vector<fs::path> candidates;
+  for (const fs::directory_entry& e : it) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    // "<prefix><pid>" or "<prefix><pid>.old"
+    std::string rest = name.substr(prefix.size());
+    if (rest.size() > 4 && rest.compare(rest.size() - 4, 4, ".old") == 0) rest.resize(rest.size() - 4);
+    if (rest.empty() || rest.find_first_not_of("0123456789") != std::string::npos || rest.size() > 9) continue;
+    const pid_t pid = static_cast<pid_t>(std::stol(rest));
+    if (pid == ::getpid()) continue;
+    if (::kill(pid, 0) == 0 || errno != ESRCH) continue;  // alive (or not ours to judge)
+    candidates.push_back(e.path());
+  }
+  std::sort(candidates.begin(), candidates.end());
+  for (const fs::path& p : candidates) {
+    fs::remove_all(p, ec);
+    if (!ec) removed.push_back(p.string());
+  }
+  return removed;
+}
+
+OutputLock::OutputLock(const std::string& target, const std::string& option) : path_(target + ".lock") {
+  fd_ = ::open(path_.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) throw InputError(option, "cannot create lock file " + path_ + ": " + std::strerror(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    ::close(fd_);
+    fd_ = -1;
+    throw InputError(option, target + " is being written by another dynref process (lock " + path_ + " is held)");
+  }
+}
+
+OutputLock::~OutputLock() {
+  if (fd_ < 0) return;
+  ::unlink(path_.c_str());  // while still held: a waiting process fails fast, a later one makes a new file
+  ::flock(fd_, LOCK_UN);
+  ::close(fd_);
 }
 
 }  // namespace dynref

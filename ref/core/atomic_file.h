@@ -68,4 +68,34 @@ class StagingDirectory {
   bool committed_ = false;
 };
 
+// Moves a finished staging folder onto target, replacing what is there (the previous output is
+// renamed aside first and put back if the move fails, then removed). `replaceable(target)` is
+// asked again right before the move (something may have appeared meanwhile); false gives
+// InputError(shown, refusal). std::filesystem_error names the paths on an I/O failure.
+void PublishDirectory(const std::string& staged, const std::string& target, const std::string& shown,
+                      bool (*replaceable)(const std::string& dir), const std::string& refusal);
+
+// True when path does not exist or is an empty directory.
+bool IsAbsentOrEmptyDirectory(const std::string& path);
+
+// Removes "<target>.tmp.<pid>" siblings (staging folders and temp files) whose process is no
+// longer alive (a killed run); returns the removed paths. Never touches a live process's.
+std::vector<std::string> RemoveStaleTemps(const std::string& target);
+
+// An advisory exclusive lock (flock) on "<target>.lock", held until destruction, so that two
+// processes never write the same output folder: InputError(option, "... is being written by
+// another dynref process ...") at once when it is held. The lock file is removed on release.
+class OutputLock {
+ public:
+  OutputLock(const std::string& target, const std::string& option);
+  ~OutputLock();
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+};
+
 }  // namespace dynref

@@ -9,7 +9,7 @@ namespace dynref {
 
 struct RunOutput {
   std::string module;  // stage / map module name
-  std::string path;    // as written (absolute or relative to the run folder)
+  std::string path;    // relative to the run folder when inside it, else as written
   std::string what;    // one line: what the file holds
 };
 
@@ -18,8 +18,12 @@ class RunEnd {
   explicit RunEnd(std::string out_dir) : out_dir_(std::move(out_dir)) {}
   // The run folder (empty when a stage is driven outside `dynref run`: write nothing then).
   const std::string& out_dir() const { return out_dir_; }
+  // A path inside out_dir() is recorded relative to it (the run folder is written in a staging
+  // folder and renamed into place at the end, so its absolute path changes).
   void AddOutput(const std::string& module, const std::string& path, const std::string& what) {
-    outputs_.push_back({module, path, what});
+    const std::string prefix = out_dir_ + "/";
+    const bool inside = !out_dir_.empty() && path.compare(0, prefix.size(), prefix) == 0;
+    outputs_.push_back({module, inside ? path.substr(prefix.size()) : path, what});
   }
   const std::vector<RunOutput>& outputs() const { return outputs_; }
 

@@ -39,12 +39,13 @@ trace::RunHeader MakeHeader(const RunOptions& options, const RunInputs& in) {
   return header;
 }
 
-// A rerun into the same folder must not leave outputs of the earlier run beside the new ones.
-void PrepareOutDir(const RunOptions& options) {
-  fs::create_directories(options.out_dir);
-  if (trace::ParseLevel(options.trace_level) == trace::Level::kOff) fs::remove(options.out_dir + "/trace.dtr");
-  if (!options.overlays) fs::remove_all(options.out_dir + "/overlays");
+// A run folder may replace an absent or empty folder or an earlier run (it has a run.json).
+bool IsReplaceableRunFolder(const std::string& dir) {
+  std::error_code ec;
+  return IsAbsentOrEmptyDirectory(dir) || (fs::is_directory(dir, ec) && fs::exists(fs::path(dir) / "run.json", ec));
 }
+
+const char* kNotARunFolder = "exists and is not a dynref run folder (no run.json); refusing to replace it";
 
 void ShowProgress(size_t k, size_t n, const FrameLoop& loop) {
   std::cerr << "\rdynref run: frame " << (k + 1) << "/" << n << "  keyframes " << loop.map().keyframes.size()
@@ -58,6 +59,7 @@ void RunOptions::Check() const {
   if (sequence.empty()) throw InputError("dynref run", "--sequence is required");
   if (out_dir.empty()) throw InputError("dynref run", "--out is required");
   CheckDirectoryPath(out_dir, "--out");
+  trace::ParseLevel(trace_level);  // an unknown level is an error before anything is created
   if (!detector.empty()) {
     DetectSourceOptions d;
     d.sequence_root = sequence;
@@ -79,9 +81,17 @@ RunResult RunSequence(const RunOptions& options) {
   if (options.registry == nullptr) RegisterBuiltinMethods(builtin);
   Session session(inputs.config->path, inputs.config->stages, options.registry ? *options.registry : builtin);
   OpenDetections(options, inputs);
-  PrepareOutDir(options);
-  trace::TraceWriter trace(options.out_dir + "/trace.dtr", trace::ParseLevel(options.trace_level),
-                           MakeHeader(options, inputs));
+
+  // ---- the run folder is a unit: written in a staging folder, locked against a second writer,
+  // renamed onto --out only when every output is closed (a killed or failed run leaves the
+  // earlier folder as it was, and no mix of two runs) ----
+  const std::string target = StagingDirectory::NormalisedTarget(options.out_dir);
+  if (!IsReplaceableRunFolder(target)) throw InputError("--out", options.out_dir + " " + kNotARunFolder);
+  StagingDirectory staging(target);
+  const OutputLock lock(target, "--out");
+  RemoveStaleTemps(target);  // staging folders of killed runs into the same --out
+  const std::string dir = staging.dir();
+  trace::TraceWriter trace(dir + "/trace.dtr", trace::ParseLevel(options.trace_level), MakeHeader(options, inputs));
 
   // ---- frames ----
   FrameLoop loop(options, inputs, session, trace);
@@ -101,21 +111,29 @@ RunResult RunSequence(const RunOptions& options) {
   }
   if (progress) std::cerr << "\n";
 
-  // ---- outputs: the components' files first, run.json after every other output ----
-  const SessionEnd end = session.Finish(loop.map(), options.out_dir);
-  WriteTrajectoryFiles(options.out_dir, inputs, loop);
+  // ---- outputs: the components' files, trajectories, the trace, then run.json ----
+  const SessionEnd end = session.Finish(loop.map(), dir);
+  WriteTrajectoryFiles(dir, inputs, loop);
   if (!end.errors.empty() && result.exit_code == 0) {
     result.end_state = "error: output " + end.errors.front();
     result.exit_code = kExitBadInput;
   }
   for (const std::string& e : end.errors) std::cerr << "dynref run: output " << e << "\n";
-  WriteRunJson(options, inputs, loop, end);
-  trace.Close(result.end_state);
+  try {
+    trace.Close(result.end_state);
+  } catch (const std::exception& e) {  // run.json must not call a run complete without its trace
+    if (result.exit_code == 0) result.end_state = std::string("error: trace: ") + e.what();
+    result.exit_code = kExitBadInput;
+    std::cerr << "dynref run: trace: " << e.what() << "\n";
+  }
+  WriteRunJson(options, inputs, loop, end, dir);
   if (options.overlays && result.frames > 0) {
     render::OverlayOptions ro;
-    ro.out_dir = options.out_dir + "/overlays";
-    render::RenderRunOverlays(options.out_dir, inputs.frames.front().index, inputs.frames[result.frames - 1].index, ro);
+    ro.out_dir = dir + "/overlays";
+    render::RenderRunOverlays(dir, inputs.frames.front().index, inputs.frames[result.frames - 1].index, ro);
   }
+  PublishDirectory(dir, target, options.out_dir, IsReplaceableRunFolder, kNotARunFolder);
+  staging.Commit();
   return result;
 }
 

@@ -64,7 +64,8 @@ void WriteTrajectoryFiles(const std::string& out_dir, const RunInputs& inputs, F
   }
 }
 
-void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop& loop, const SessionEnd& end) {
+void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop& loop, const SessionEnd& end,
+                  const std::string& dir) {
   const MethodConfig& cfg = *inputs.config;
   const Camera& camera = inputs.sequence.camera;
   const RunResult& result = loop.result();
@@ -105,7 +106,7 @@ void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop&
   j["dynref_version"] = DYNREF_VERSION;
   j["dynref_commit"] = DYNREF_GIT_COMMIT;
   // Paths and config sources are user text: invalid UTF-8 is written as U+FFFD, not an error.
-  AtomicWriteFile(options.out_dir + "/run.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  AtomicWriteFile(dir + "/run.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
 }
 
 }  // namespace dynref

@@ -11,7 +11,8 @@ namespace dynref {
 
 // trajectory.txt (ORB-SLAM2 SaveTrajectoryTUM), keyframes.txt, lost.txt; fills result counts.
 void WriteTrajectoryFiles(const std::string& out_dir, const RunInputs& inputs, FrameLoop& loop);
-// run.json; `end` holds the outputs and errors of the method's components.
-void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop& loop, const SessionEnd& end);
+// run.json into dir; `end` holds the outputs and errors of the method's components.
+void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop& loop, const SessionEnd& end,
+                  const std::string& dir);
 
 }  // namespace dynref

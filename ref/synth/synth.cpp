@@ -92,23 +92,9 @@ void CheckReplaceable(const fs::path& target, const std::string& shown) {
                             "refusing to overwrite");
 }
 
-// Moves the finished temp folder onto target, replacing a previous synth output there.
-void Publish(const fs::path& temp, const fs::path& target, const std::string& shown) {
-  CheckReplaceable(target, shown);  // again: something may have appeared while we rendered
+bool IsReplaceableSynthTarget(const std::string& dir) {
   std::error_code ec;
-  const bool had_old = fs::exists(fs::symlink_status(target, ec));
-  const fs::path old = TempPathFor(target.string()) + ".old";
-  if (had_old) {
-    fs::remove_all(old, ec);
-    fs::rename(target, old);  // throws filesystem_error naming the paths
-  }
-  try {
-    fs::rename(temp, target);
-  } catch (...) {
-    if (had_old) fs::rename(old, target, ec);  // put the previous output back
-    throw;
-  }
-  if (had_old) fs::remove_all(old, ec);
+  return IsAbsentOrEmptyDirectory(dir) || (fs::is_directory(dir, ec) && IsSynthOutput(dir));
 }
 
 }  // namespace
@@ -261,7 +247,8 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
   AtomicWriteFile(out + "/groundtruth.txt", gt_txt.str());
   AtomicWriteFile(out + "/associations.txt", assoc_txt.str());
   AtomicWriteFile(out + "/rgb.txt", rgb_txt.str());
-  Publish(staging.dir(), target, opt.out);
+  PublishDirectory(staging.dir(), target.string(), opt.out, IsReplaceableSynthTarget,
+                   "exists and was not written by dynref synth (no synth.yaml naming the generator); refusing to overwrite");
   staging.Commit();
   SynthStats stats;
   stats.frames = n;

@@ -268,7 +268,7 @@ TEST_CASE("sgdo stages: dense map stage writes a PLY of the unmasked keyframe pi
   RunEnd end(dir);  // a relative `output` is written into the run folder
   dense->Finish(map, end);
   REQUIRE(end.outputs().size() == 1);
-  CHECK(end.outputs()[0].path == dir + "/dense_map.ply");
+  CHECK(end.outputs()[0].path == "dense_map.ply");  // relative to the run folder
   const dense::PointCloud cloud = dense::ReadPly(dir + "/dense_map.ply");
   REQUIRE(!cloud.empty());
   for (const auto& p : cloud) CHECK(p.z > 1.9f);  // no person point (1.5 m) in the static map

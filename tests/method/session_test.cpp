@@ -124,8 +124,8 @@ TEST_CASE("session: Finish collects outputs and errors, one failure does not sto
   const Map map;
   const SessionEnd end = s.Finish(map, "/run");
   REQUIRE(end.outputs.size() == 2);
-  CHECK(end.outputs[0].path == "/run/t.a.txt");
-  CHECK(end.outputs[1].path == "/run/t.b.txt");
+  CHECK(end.outputs[0].path == "t.a.txt");  // relative to the run folder
+  CHECK(end.outputs[1].path == "t.b.txt");
   CHECK(end.errors == std::vector<std::string>{"t.fail: disk full"});
 }
 

@@ -66,8 +66,9 @@ const MethodRegistry& TestRegistry() {
   return r;
 }
 
-std::string WriteConfig(const std::string& dir, const std::string& stage) {
-  const std::string path = dir + "/method.yaml";
+// The config lives beside the run folder (a run replaces its --out folder as a unit).
+std::string WriteConfig(const std::string& run_dir, const std::string& stage) {
+  const std::string path = run_dir + ".method.yaml";
   std::ofstream(path) << "method: test\nstages:\n  - name: " << stage << "\n";
   return path;
 }
