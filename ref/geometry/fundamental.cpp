@@ -260,4 +260,12 @@ RansacResult RansacFundamental(const std::vector<Correspondence>& points,
   return best;
 }
 
+Eigen::Matrix3d FundamentalFromPose(const Eigen::Matrix3d& K, const Eigen::Matrix3d& R_cur_prev,
+                                    const Eigen::Vector3d& t_cur_prev) {
+  Eigen::Matrix3d tx;
+  tx << 0, -t_cur_prev.z(), t_cur_prev.y(), t_cur_prev.z(), 0, -t_cur_prev.x(), -t_cur_prev.y(), t_cur_prev.x(), 0;
+  const Eigen::Matrix3d K_inv = K.inverse();
+  return K_inv.transpose() * tx * R_cur_prev * K_inv;
+}
+
 }  // namespace dynref::geometry

@@ -24,6 +24,12 @@ double EpipolarDistance(const Eigen::Matrix3d& F, const Eigen::Vector2d& p_prev,
 double SymmetricEpipolarDistance(const Eigen::Matrix3d& F, const Eigen::Vector2d& p_prev,
                                  const Eigen::Vector2d& p_cur);
 
+// F of a calibrated relative pose (seed 000 Sec. 3.5, seed 004 Module C): F = K^-T [t]x R K^-1
+// with (R, t) = T_cur_prev (maps points of the previous camera into the current one), so that
+// x_cur^T F x_prev = 0. K = [fx 0 cx; 0 fy cy; 0 0 1].
+Eigen::Matrix3d FundamentalFromPose(const Eigen::Matrix3d& K, const Eigen::Matrix3d& R_cur_prev,
+                                    const Eigen::Vector3d& t_cur_prev);
+
 // Minimal solver: the 1..3 real rank-2 solutions of exactly 7 correspondences (Hartley &
 // Zisserman Sec. 11.1.2: null space {F1, F2}, cubic det(a F1 + (1-a) F2) = 0). Points are
 // Hartley-normalised internally. Each F is scaled to unit Frobenius norm with F(2,2) >= 0

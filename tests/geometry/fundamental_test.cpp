@@ -99,3 +99,21 @@ TEST_CASE("fundamental: too few points give no model") {
   bad.confidence = 1.0;
   CHECK_THROWS(bad.Check());
 }
+
+TEST_CASE("fundamental: F from a known relative pose has zero epipolar distance for static points") {
+  const Eigen::Matrix3d K = geo::K();
+  const Eigen::Isometry3d T = geo::RelativePose();
+  const Eigen::Matrix3d F = FundamentalFromPose(K, T.linear(), T.translation());
+  // A planted point at 2.5 m in the previous camera, seen in both images.
+  const Eigen::Vector3d X_prev(0.3, -0.2, 2.5);
+  const Eigen::Vector3d X_cur = T * X_prev;
+  const Eigen::Vector3d a = K * X_prev, b = K * X_cur;
+  const Eigen::Vector2d p_prev = a.hnormalized(), p_cur = b.hnormalized();
+  CHECK(EpipolarDistance(F, p_prev, p_cur) < 1e-9);
+  // Moved by 5 px perpendicular to the epipolar line: the distance is 5 px.
+  const Eigen::Vector3d l = F * p_prev.homogeneous();
+  const Eigen::Vector2d n = Eigen::Vector2d(l.x(), l.y()).normalized();
+  CHECK(EpipolarDistance(F, p_prev, p_cur + 5.0 * n) == Approx(5.0).epsilon(1e-9));
+  // A pure rotation has no epipolar geometry: F = 0 (distance +inf by Eq. (5)'s convention).
+  CHECK(FundamentalFromPose(K, T.linear(), Eigen::Vector3d::Zero()).norm() == 0.0);
+}

@@ -1,0 +1,74 @@
+// MgdOptions from mgd.probability's params; every key is required (configs/mgd*.yaml give each
+// with its source).
+#include <stdexcept>
+
+#include "core/error.h"
+#include "dynamic/mgd/stages.h"
+#include "io/coco_classes.h"
+
+namespace dynref::mgd {
+
+MgdOptions ReadOptions(const ParamMap& p) {
+  p.RequireKnownKeys({"min_confidence", "dynamic_classes", "initial_pose_out_of_box", "p_init_box", "p_init_free",
+                      "delta", "match_radius_px", "use_ls", "use_pro", "use_mf", "d_th_ls_px", "theta_th_ls_rad",
+                      "a_ls", "angle_form", "min_velocity_px", "d_th_pro_px", "a_pro", "d_th_mf_px", "a_mf", "w_ls",
+                      "w_pro", "w_mf", "a", "smoothing", "diffusion", "radius_m", "tau_dyn", "weight"});
+  MgdOptions o;
+  o.min_confidence = p.GetDouble("min_confidence");
+  const Param& classes = p.Get("dynamic_classes");
+  o.dynamic_class_ids.clear();
+  for (const std::string& name : classes.list) {
+    const int id = CocoClassId(name);
+    if (id < 0) throw InputError(classes.file, classes.line, "unknown COCO class '" + name + "'");
+    o.dynamic_class_ids.push_back(id);
+  }
+  o.initial_pose_out_of_box = p.GetBool("initial_pose_out_of_box");
+  o.p_init_box = p.GetDouble("p_init_box");
+  o.p_init_free = p.GetDouble("p_init_free");
+  o.delta = p.GetDouble("delta");
+  o.match_radius_px = p.GetDouble("match_radius_px");
+  o.use_ls = p.GetBool("use_ls");
+  o.use_pro = p.GetBool("use_pro");
+  o.use_mf = p.GetBool("use_mf");
+  o.d_th_ls_px = p.GetDouble("d_th_ls_px");
+  o.theta_th_ls_rad = p.GetDouble("theta_th_ls_rad");
+  o.a_ls = p.GetDouble("a_ls");
+  auto choice = [&](const std::string& key, const std::vector<std::string>& names) {
+    const std::string v = p.GetString(key);
+    for (size_t i = 0; i < names.size(); ++i)
+      if (v == names[i]) return static_cast<int>(i);
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : " | ") + n;
+    throw InputError(p.Get(key).file, p.Get(key).line, "mgd.probability: " + key + " must be " + list + ", got " + v);
+  };
+  o.angle_form = choice("angle_form", {"angle_to_mean", "literal_arctan"}) == 0 ? AngleForm::kAngleToMean
+                                                                               : AngleForm::kLiteralArctan;
+  o.min_velocity_px = p.GetDouble("min_velocity_px");
+  o.d_th_pro_px = p.GetDouble("d_th_pro_px");
+  o.a_pro = p.GetDouble("a_pro");
+  o.d_th_mf_px = p.GetDouble("d_th_mf_px");
+  o.a_mf = p.GetDouble("a_mf");
+  o.w_ls = p.GetDouble("w_ls");
+  o.w_pro = p.GetDouble("w_pro");
+  o.w_mf = p.GetDouble("w_mf");
+  o.a = p.GetDouble("a");
+  o.smoothing = choice("smoothing", {"new_evidence", "old_evidence"}) == 0 ? SmoothingForm::kNewEvidence
+                                                                          : SmoothingForm::kOldEvidence;
+  o.diffusion = p.GetBool("diffusion");
+  o.radius_m = p.GetDouble("radius_m");
+  o.tau_dyn = p.GetDouble("tau_dyn");
+  o.weight = choice("weight", {"one_minus_p", "none"}) == 0 ? WeightForm::kOneMinusP : WeightForm::kNone;
+  try {
+    o.Check();
+  } catch (const std::invalid_argument& e) {
+    throw InputError(p.file, p.line, "stage mgd.probability: " + std::string(e.what()));
+  }
+  return o;
+}
+
+const MgdOptions& RequireOptions(const MgdState& state, const std::string& stage) {
+  if (!state.configured) throw std::logic_error(stage + " needs mgd.probability in the stage list");
+  return state.options;
+}
+
+}  // namespace dynref::mgd

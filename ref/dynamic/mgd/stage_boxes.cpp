@@ -1,0 +1,62 @@
+// mgd.boxes (kBeforeInitialPose). seed 000 Sec. 3.3: Flag_d(x) = 1 for a feature inside a kept
+// box (conf > min_confidence, dynamic class). Boxes only: the masks of the detections are not
+// used (the paper's YOLO gives boxes). Once tracking runs, in-box features get weight 0 for the
+// initial pose (spec E10: relative pose from out-of-box features; mgd.probability sets the real
+// weights right after). On the initialisation frame no pose exists yet: every feature gets
+// P = P_init(Flag_d), suppressed above tau_dyn, weight 1 - P, so the first keyframe's map points
+// carry the box prior.
+#include <algorithm>
+
+#include "dynamic/mgd/stages.h"
+
+namespace dynref::mgd {
+namespace {
+
+bool InKeptBox(const FrameDetections* det, const MgdOptions& o, float u, float v) {
+  if (det == nullptr) return false;
+  for (const DetectedInstance& inst : det->instances) {
+    if (inst.confidence <= o.min_confidence) continue;
+    if (std::find(o.dynamic_class_ids.begin(), o.dynamic_class_ids.end(), inst.class_id) == o.dynamic_class_ids.end())
+      continue;
+    if (u >= inst.x_min && u <= inst.x_max && v >= inst.y_min && v <= inst.y_max) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+void BoxStage::Run(StageContext& ctx) {
+  const MgdOptions& o = RequireOptions(*state_, name());
+  const Frame& f = ctx.frame.view();
+  MgdState& s = *state_;
+  s.frame = f.index;
+  s.stamp = f.stamp_text;
+  s.in_box.assign(f.N(), 0);
+  int64_t in_box = 0;
+  for (size_t i = 0; i < f.N(); ++i) {
+    s.in_box[i] = InKeptBox(f.detections, o, f.keys[i].pt.x, f.keys[i].pt.y) ? 1 : 0;
+    in_box += s.in_box[i];
+  }
+  ctx.trace.FrameCount(name(), "in_box", in_box);
+  if (!ctx.initialised) {  // initialisation frame: the box prior only
+    s.prev_frame = f.index;
+    s.prev_p.assign(f.N(), -1.0);
+    for (size_t i = 0; i < f.N(); ++i) {
+      const int fi = static_cast<int>(i);
+      if (f.IsExcluded(fi)) continue;
+      const double p = s.in_box[i] ? o.p_init_box : o.p_init_free;
+      s.prev_p[i] = p;
+      if (p > o.tau_dyn) {
+        ctx.frame.Exclude(fi, name(), "p-init>tau");
+      } else if (o.weight == WeightForm::kOneMinusP) {
+        ctx.frame.SetWeight(fi, 1.0 - p);
+      }
+    }
+    return;
+  }
+  if (o.initial_pose_out_of_box)
+    for (size_t i = 0; i < f.N(); ++i)
+      if (s.in_box[i] && !f.IsExcluded(static_cast<int>(i))) ctx.frame.SetWeight(static_cast<int>(i), 0.0);
+}
+
+}  // namespace dynref::mgd

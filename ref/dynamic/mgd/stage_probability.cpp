@@ -1,0 +1,181 @@
+// mgd.probability (kAfterInitialPose): seed 000 Sec. 3.4-3.6, spec steps 7-13 for points.
+// Per non-excluded feature: inherited P_prev (previous-frame feature, else its map point, else
+// P_init by Flag_d), the cues P_LS (short-term velocity deviation from the out-of-box mean flow),
+// P_pro (cached per map point by mgd.reprojection) and P_mf (distance to the epipolar line of F
+// from the initial relative pose), log-odds fusion S, smoothing, Jacobi diffusion over 3-D
+// neighbours within radius_m, then suppression (P > tau_dyn) or weight w = 1 - P. P is written
+// back to the frame's features (next frame's inheritance) and to the matched map points.
+#include <Eigen/Core>
+
+#include "dynamic/mgd/correspondence.h"
+#include "dynamic/mgd/probability.h"
+#include "dynamic/mgd/stages.h"
+#include "geometry/fundamental.h"
+
+namespace dynref::mgd {
+
+ProbabilityStage::ProbabilityStage(const MgdOptions& o, std::shared_ptr<MgdState> state)
+    : o_(o), state_(std::move(state)) {
+  state_->options = o;
+  state_->configured = true;
+}
+
+namespace {
+
+// Mean image velocity of the out-of-box features with a previous-frame correspondence (spec E6).
+bool MeanBackgroundVelocity(const Frame& f, const Frame& prev, const std::vector<Correspondence>& corr,
+                            const std::vector<uint8_t>& in_box, Eigen::Vector2d* vbar) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  int n = 0;
+  for (size_t i = 0; i < f.N(); ++i) {
+    if (corr[i].prev_index < 0 || in_box[i]) continue;
+    const cv::Point2f d = f.keys_un[i].pt - prev.keys_un[corr[i].prev_index].pt;
+    sum += Eigen::Vector2d(d.x, d.y);
+    ++n;
+  }
+  if (n == 0) return false;
+  *vbar = sum / n;
+  return true;
+}
+
+}  // namespace
+
+void ProbabilityStage::Run(StageContext& ctx) {
+  const MgdOptions& o = o_;
+  MgdState& s = *state_;
+  const Frame& f = ctx.frame.view();
+  if (s.frame != f.index) throw std::logic_error("mgd.probability needs mgd.boxes earlier in the stage list");
+  trace::TraceWriter& tr = ctx.trace;
+  const bool full = tr.full_enabled();
+  const size_t n = f.N();
+  const Frame* prev = ctx.previous;
+  std::vector<Correspondence> corr(n);
+  if (prev != nullptr) corr = MatchPrevious(f, *prev, o.delta, o.match_radius_px);
+  const bool have_prev_p = prev != nullptr && s.prev_frame == prev->index && s.prev_p.size() == prev->N();
+  Eigen::Vector2d vbar = Eigen::Vector2d::Zero();
+  const bool has_vbar = prev != nullptr && MeanBackgroundVelocity(f, *prev, corr, s.in_box, &vbar);
+  // F of the initial relative pose (spec E9: the line in frame k is F x^{k-1}).
+  bool has_F = false;
+  Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+  if (prev != nullptr && prev->has_pose && f.has_pose) {
+    const SE3 T_cur_prev = f.T_cw * prev->T_cw.inverse();
+    if (T_cur_prev.translation().norm() > 1e-9) {
+      const Intrinsics K = ctx.camera.Pinhole();
+      Eigen::Matrix3d Km;
+      Km << K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1;
+      F = geometry::FundamentalFromPose(Km, T_cur_prev.linear(), T_cur_prev.translation());
+      has_F = true;
+    }
+  }
+
+  std::vector<double> p_smooth(n, -1.0);
+  std::vector<Eigen::Vector3d> points(n, Eigen::Vector3d::Zero());
+  std::vector<bool> has_point(n, false);
+  int64_t counts[3] = {0, 0, 0}, computable_ls = 0, computable_pro = 0, computable_mf = 0;
+  const Intrinsics K = ctx.camera.Pinhole();
+  for (size_t i = 0; i < n; ++i) {
+    const int fi = static_cast<int>(i);
+    if (f.IsExcluded(fi)) continue;
+    const std::string id = f.FeatureId(fi);
+    const int j = corr[i].prev_index;
+    const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
+    // Step 7: inheritance.
+    double p_prev;
+    int source;
+    const MapPoint* point = mp >= 0 ? ctx.map.mp(mp) : nullptr;
+    if (j >= 0 && have_prev_p && s.prev_p[j] >= 0) {
+      p_prev = s.prev_p[j], source = 0;
+    } else if (point != nullptr && point->dynamic.p_dynamic >= 0) {
+      p_prev = point->dynamic.p_dynamic, source = 1;
+    } else {
+      p_prev = s.in_box[i] ? o.p_init_box : o.p_init_free, source = 2;
+    }
+    ++counts[source];
+    // Step 8: cues.
+    Cues c;
+    VelocityDeviation dev;
+    double d_epi = 0;
+    if (j >= 0 && has_vbar) {
+      const cv::Point2f d = f.keys_un[i].pt - prev->keys_un[j].pt;
+      dev = Deviation(Eigen::Vector2d(d.x, d.y), vbar, o);
+      c.has_ls = true;
+      c.p_ls = ProbabilityLS(dev, o);
+    }
+    const ProCue* pro = nullptr;
+    if (mp >= 0) {
+      auto it = s.pro.find(mp);
+      if (it != s.pro.end()) pro = &it->second, c.has_pro = true, c.p_pro = it->second.p;
+    }
+    if (j >= 0 && has_F) {
+      const cv::Point2f a = prev->keys_un[j].pt, b = f.keys_un[i].pt;
+      d_epi = geometry::EpipolarDistance(F, Eigen::Vector2d(a.x, a.y), Eigen::Vector2d(b.x, b.y));
+      c.has_mf = true;
+      c.p_mf = ProbabilityMF(d_epi, o);
+    }
+    computable_ls += c.has_ls, computable_pro += c.has_pro, computable_mf += c.has_mf;
+    const double S = Fuse(c, o);
+    p_smooth[i] = Smooth(p_prev, S, o);
+    if (f.depth[i] > 0) {
+      points[i] = K.Backproject(f.keys_un[i].pt.x, f.keys_un[i].pt.y, f.depth[i]);
+      has_point[i] = true;
+    }
+    if (full) {
+      tr.ProbabilityUpdate("mgd.inherit", trace::EntityKind::kFeature, id,
+                           {{"source", double(source)}, {"prev_index", double(j)}, {"map_point", double(mp)},
+                            {"in_box", double(s.in_box[i])}, {"hamming", double(corr[i].hamming)}},
+                           p_prev, p_prev);
+      tr.ProbabilityUpdate("mgd.P_LS", trace::EntityKind::kFeature, id,
+                           {{"computable", double(c.has_ls)}, {"d_px", dev.d_px}, {"dtheta", dev.dtheta},
+                            {"vbar_u", vbar.x()}, {"vbar_v", vbar.y()}},
+                           0.5, c.has_ls ? c.p_ls : 0.5);
+      tr.ProbabilityUpdate("mgd.P_pro", trace::EntityKind::kFeature, id,
+                           {{"computable", double(c.has_pro)}, {"mean_forward_px", pro ? pro->mean_forward_px : 0.0},
+                            {"mean_backward_px", pro ? pro->mean_backward_px : 0.0},
+                            {"covisible", pro ? double(pro->covisible) : 0.0}, {"kf", pro ? double(pro->kf) : -1.0}},
+                           0.5, c.has_pro ? c.p_pro : 0.5);
+      tr.ProbabilityUpdate("mgd.P_mf", trace::EntityKind::kFeature, id,
+                           {{"computable", double(c.has_mf)}, {"d_epi_px", d_epi}}, 0.5, c.has_mf ? c.p_mf : 0.5);
+      tr.ProbabilityUpdate("mgd.fusion", trace::EntityKind::kFeature, id,
+                           {{"w_ls", o.use_ls ? o.w_ls : 0.0}, {"w_pro", o.use_pro ? o.w_pro : 0.0},
+                            {"w_mf", o.use_mf ? o.w_mf : 0.0}},
+                           0.5, S);
+      tr.ProbabilityUpdate("mgd.smooth", trace::EntityKind::kFeature, id, {{"S", S}, {"a", o.a}}, p_prev, p_smooth[i]);
+    }
+  }
+  // Step 10: diffusion (Jacobi) over the features with a 3-D point.
+  std::vector<int> neighbours(n, 0);
+  const std::vector<double> p = o.diffusion ? Diffuse(points, has_point, p_smooth, o.radius_m, &neighbours) : p_smooth;
+  // Steps 13 and 15: suppression / weights, write-back.
+  int64_t suppressed = 0;
+  std::vector<double> next_prev(n, -1.0);
+  for (size_t i = 0; i < n; ++i) {
+    const int fi = static_cast<int>(i);
+    if (p_smooth[i] < 0) continue;  // excluded before this stage
+    next_prev[i] = p[i];
+    const bool suppress = p[i] > o.tau_dyn;
+    const double w = suppress ? 0.0 : (o.weight == WeightForm::kOneMinusP ? 1.0 - p[i] : 1.0);
+    if (full)
+      tr.ProbabilityUpdate("mgd.diffuse", trace::EntityKind::kFeature, f.FeatureId(fi),
+                           {{"neighbours", double(neighbours[i])}, {"weight", w}}, p_smooth[i], p[i]);
+    const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
+    if (mp >= 0 && ctx.map.mp(mp) != nullptr) ctx.frame.SetPointDynamicProbability(mp, p[i], name());
+    if (suppress) {
+      ctx.frame.Exclude(fi, name(), "p>tau_dyn");
+      ++suppressed;
+    } else {
+      ctx.frame.SetWeight(fi, w);
+      tr.Decision(name(), trace::EntityKind::kFeature, f.FeatureId(fi), true, "p<=tau_dyn");
+    }
+  }
+  s.prev_frame = f.index;
+  s.prev_p = std::move(next_prev);
+  tr.FrameCount(name(), "inherit_prev_frame", counts[0]);
+  tr.FrameCount(name(), "inherit_map_point", counts[1]);
+  tr.FrameCount(name(), "inherit_init", counts[2]);
+  tr.FrameCount(name(), "P_LS_computable", computable_ls);
+  tr.FrameCount(name(), "P_pro_computable", computable_pro);
+  tr.FrameCount(name(), "P_mf_computable", computable_mf);
+  tr.FrameCount(name(), "suppressed", suppressed);
+}
+
+}  // namespace dynref::mgd

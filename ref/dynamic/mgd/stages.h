@@ -1,0 +1,54 @@
+// MGD-SLAM (seed 000) stages, points only (line samples join when the backbone has lines,
+// issue 13). See register.h for hooks, README.md for the equations and spec readings.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "dynamic/mgd/options.h"
+#include "dynamic/mgd/state.h"
+#include "method/params.h"
+#include "method/stage.h"
+
+namespace dynref::mgd {
+
+// Reads every option from mgd.probability's params (all keys required, with their sources).
+MgdOptions ReadOptions(const ParamMap& p);
+// The options of the run; std::logic_error naming `stage` when mgd.probability is not configured.
+const MgdOptions& RequireOptions(const MgdState& state, const std::string& stage);
+
+class BoxStage : public Stage {
+ public:
+  explicit BoxStage(std::shared_ptr<MgdState> state) : state_(std::move(state)) {}
+  std::string name() const override { return "mgd.boxes"; }
+  Hook hook() const override { return Hook::kBeforeInitialPose; }
+  void Run(StageContext& ctx) override;
+
+ private:
+  std::shared_ptr<MgdState> state_;
+};
+
+class ProbabilityStage : public Stage {
+ public:
+  ProbabilityStage(const MgdOptions& o, std::shared_ptr<MgdState> state);
+  std::string name() const override { return "mgd.probability"; }
+  Hook hook() const override { return Hook::kAfterInitialPose; }
+  void Run(StageContext& ctx) override;
+
+ private:
+  MgdOptions o_;
+  std::shared_ptr<MgdState> state_;
+};
+
+class ReprojectionStage : public Stage {
+ public:
+  explicit ReprojectionStage(std::shared_ptr<MgdState> state) : state_(std::move(state)) {}
+  std::string name() const override { return "mgd.reprojection"; }
+  Hook hook() const override { return Hook::kOnMapUpdate; }
+  void Run(StageContext& ctx) override;
+  void OnLandmarkEvent(const LandmarkEvent& e) override;
+
+ private:
+  std::shared_ptr<MgdState> state_;
+};
+
+}  // namespace dynref::mgd
