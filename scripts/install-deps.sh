@@ -13,6 +13,7 @@ PACKAGES=(
   nlohmann-json3-dev         # run.json / eval --json
   libcli11-dev               # subcommands, --help, unknown flags are errors
   libnanoflann-dev           # k-d tree for SOR / radius queries in dense maps
+  liboctomap-dev             # semantic octrees written as real .ot/.bt (seed 002; octovis, octomap_server)
   darknet                    # ships real test photos with people (person.jpg, kite.jpg)
   python3                    # tests: second, independent trace writer (ref/trace/dtr_from_jsonl.py)
 )

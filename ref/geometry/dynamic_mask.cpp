@@ -51,23 +51,23 @@ int DynamicMask::InstanceAt(double u, double v) const {
   return instance_labels.at<uint16_t>(y, x);
 }
 
-DynamicMask BuildDynamicMask(const FrameDetections& detections, int width, int height,
-                             const DynamicMaskOptions& options) {
-  options.Check();
+namespace {
+
+// Union of the instances accepted by `take`, dilated, lowest id first (see dynamic_mask.h).
+template <typename Take>
+DynamicMask BuildMask(const FrameDetections& detections, int width, int height, int dilation_kernel_px, Take take) {
   DynamicMask out;
   out.mask = cv::Mat::zeros(height, width, CV_8U);
   out.instance_labels = cv::Mat::zeros(height, width, CV_16U);
-  const cv::Mat kernel = cv::getStructuringElement(
-      cv::MORPH_RECT, cv::Size(options.dilation_kernel_px, options.dilation_kernel_px));
+  const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(dilation_kernel_px, dilation_kernel_px));
   std::vector<const DetectedInstance*> order;
   for (const auto& inst : detections.instances) order.push_back(&inst);
   std::stable_sort(order.begin(), order.end(),
                    [](const DetectedInstance* a, const DetectedInstance* b) { return a->id < b->id; });
   for (const DetectedInstance* inst : order) {
-    if (!IsDynamicClass(options, inst->class_id) || inst->confidence < options.min_confidence)
-      continue;
+    if (!take(*inst)) continue;
     cv::Mat m = InstancePixels(detections, *inst, width, height);
-    if (options.dilation_kernel_px > 1) cv::dilate(m, m, kernel);
+    if (dilation_kernel_px > 1) cv::dilate(m, m, kernel);
     // First (lowest id) label wins on overlaps.
     cv::Mat unlabeled = (m != 0) & (out.instance_labels == 0);
     out.instance_labels.setTo(cv::Scalar(inst->id), unlabeled);
@@ -75,6 +75,24 @@ DynamicMask BuildDynamicMask(const FrameDetections& detections, int width, int h
     out.instance_ids.push_back(inst->id);
   }
   return out;
+}
+
+}  // namespace
+
+DynamicMask BuildDynamicMask(const FrameDetections& detections, int width, int height,
+                             const DynamicMaskOptions& options) {
+  options.Check();
+  return BuildMask(detections, width, height, options.dilation_kernel_px, [&](const DetectedInstance& inst) {
+    return IsDynamicClass(options, inst.class_id) && inst.confidence >= options.min_confidence;
+  });
+}
+
+DynamicMask BuildInstanceMask(const FrameDetections& detections, int width, int height,
+                              const std::set<int>& instance_ids, int dilation_kernel_px) {
+  if (dilation_kernel_px < 1 || dilation_kernel_px % 2 == 0)
+    throw std::invalid_argument("dilation_kernel_px must be odd and >= 1");
+  return BuildMask(detections, width, height, dilation_kernel_px,
+                   [&](const DetectedInstance& inst) { return instance_ids.count(inst.id) > 0; });
 }
 
 cv::Mat StaticClassLabels(const FrameDetections& detections, int width, int height,

@@ -2,6 +2,7 @@
 // "appropriately expanded" by a morphological dilation (kernel not stated: spec 001 E3).
 #pragma once
 #include <opencv2/core.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -32,6 +33,11 @@ struct DynamicMask {
 // contribute their box, clipped to the image (detector-only sources).
 DynamicMask BuildDynamicMask(const FrameDetections& detections, int width, int height,
                              const DynamicMaskOptions& options);
+
+// The same mask built from a given set of instance ids (e.g. prior-dynamic plus the static
+// objects a method judged dynamic, seed 002). std::invalid_argument for an even or < 1 kernel.
+DynamicMask BuildInstanceMask(const FrameDetections& detections, int width, int height,
+                              const std::set<int>& instance_ids, int dilation_kernel_px);
 
 // Instance-level mask of the non-dynamic (static) recognised classes, CV_16S class id per
 // pixel (-1 = none), without dilation; used for class colouring of the dense map (Sec. 3.6).

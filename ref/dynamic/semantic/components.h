@@ -1,0 +1,82 @@
+// Semantic mapping (seed 002) components; see register.h and README.md.
+#pragma once
+#include <map>
+#include <memory>
+#include <set>
+#include <string>
+
+#include "dense/dense_map.h"
+#include "dense/occupancy_grid.h"
+#include "geometry/dynamic_mask.h"
+#include "method/map_module.h"
+#include "method/params.h"
+#include "method/stage.h"
+
+namespace dynref::semantic {
+
+constexpr const char* kBoardKey = "semantic.board";
+
+// The current frame's dynamic mask (prior dynamic + non-prior dynamic instances) and the class
+// labels of the remaining (static) recognised objects, written by semantic.mask.
+struct Board {
+  int frame = -1;
+  std::string stamp;
+  geometry::DynamicMask dynamic;
+  cv::Mat static_classes;  // CV_16S COCO class per pixel of a static instance, -1 none
+  bool Has(const Frame& f) const { return frame == f.index && stamp == f.stamp_text; }
+};
+
+struct MaskOptions {
+  std::set<int> prior_dynamic_class_ids;  // Table 1: person and animals
+  double min_confidence = 0.25;
+  int d_max_px = 6;
+  double t_int_m = 0.3;
+  bool interaction = true;        // off = only prior-dynamic masks removed (implicit ablation)
+  int dilation_kernel_px = 1;
+  bool reject_keypoints = true;
+  void Check() const;
+};
+
+class MaskStage : public Stage {
+ public:
+  MaskStage(const ParamMap& p, std::shared_ptr<Board> board);
+  std::string name() const override { return "semantic.mask"; }
+  Hook hook() const override { return Hook::kAfterExtraction; }
+  void Run(StageContext& ctx) override;
+
+ private:
+  MaskOptions o_;
+  std::shared_ptr<Board> board_;
+};
+
+struct MapOptions {
+  dense::DenseMapOptions backproject;  // depth range, pixel stride (colour_by_class unused)
+  double keyframe_leaf_m = 0.01;
+  double semantic_alpha = 0.5;
+  dense::SorOptions sor;
+  double voxel_leaf_m = 0.01;
+  double octree_resolution_m = 0.05;
+  dense::GridOptions grid;
+  dense::FloorOptions floor;
+  bool remove_dynamic = true;      // false: the same map without removal (the orb baseline)
+  bool write_intermediate = true;  // the raw and SOR clouds as PCD (file-size table)
+  std::string prefix = "semantic_map";
+  void Check() const;
+};
+
+class MapModule : public dynref::MapModule {
+ public:
+  MapModule(const ParamMap& p, std::shared_ptr<Board> board);
+  std::string name() const override { return "semantic.map"; }
+  void OnKeyFrame(const MapModuleContext& ctx) override;
+  // Drops the clouds of keyframes local mapping culled (redundant by ORB-SLAM2's 90 % rule).
+  void OnMapUpdate(const MapModuleContext& ctx) override;
+  void Finish(const Map& map, RunEnd& end) override;
+
+ private:
+  MapOptions o_;
+  std::shared_ptr<Board> board_;
+  std::map<int64_t, dense::PointCloud> keyframe_clouds_;  // camera frame, by keyframe id
+};
+
+}  // namespace dynref::semantic
