@@ -35,8 +35,8 @@ struct BAEdge : EdgeModel {
 // !e->isDepthPositive() => outlier).
 double EdgeChi2(const Intrinsics& K, const std::vector<SE3>& T_cw,
                 const std::vector<Eigen::Vector3d>& X_w, const BAEdge& edge,
-                std::vector<double>* raw) {
-  return optim::EdgeChi2(K, T_cw[edge.kf], X_w[edge.point], edge, raw);
+                std::vector<double>* raw, double* weighted = nullptr) {
+  return optim::EdgeChi2(K, T_cw[edge.kf], X_w[edge.point], edge, raw, weighted);
 }
 
 // Index of each id in input order; duplicates are bad input.
@@ -191,8 +191,8 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
     BAEdge& e = edges[i];
     e.kf = kf->second;
     e.point = pt->second;
-    static_cast<EdgeModel&>(e) = MakeEdgeModel(o.uv, o.u_right, o.inv_sigma2, o.weight,
-                                               options.chi2_mono, options.chi2_stereo);
+    static_cast<EdgeModel&>(e) = MakeEdgeModel(o.uv, o.u_right, o.inv_sigma2, o.weight, options.chi2_mono,
+                                               options.chi2_stereo, options.weighted_outlier_test);
   }
 
   const bool log = trace != nullptr && trace->full_enabled();
@@ -231,7 +231,8 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
   result.inlier.assign(n, 0);
   std::vector<double> chi2(n), residual_end;
   for (size_t i = 0; i < n; ++i) {
-    chi2[i] = EdgeChi2(K, T, X, edges[i], log ? &residual_end : nullptr);
+    double weighted = 0;
+    chi2[i] = EdgeChi2(K, T, X, edges[i], log ? &residual_end : nullptr, &weighted);
     // Dropped edges stay outliers (g2o keeps their stale error above the threshold).
     result.inlier[i] = active[i] && chi2[i] <= edges[i].threshold ? 1 : 0;
     result.num_inliers += result.inlier[i];
@@ -240,7 +241,7 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
       trace->Residual(call_id, edges[i].stereo ? "rgbd3" : "mono2",
                       "mp" + std::to_string(o.point_id) + "@kf" + std::to_string(o.kf_id),
                       residual_start[i], residual_end, o.inv_sigma2, o.weight,
-                      HuberRho(chi2[i], edges[i].threshold), chi2[i], result.inlier[i] != 0);
+                      HuberRho(weighted, edges[i].threshold), chi2[i], result.inlier[i] != 0);
     }
   }
   result.chi2 = chi2;

@@ -57,6 +57,8 @@ struct PoseOnlyOptions {
   // ORB-SLAM2 re-sets the estimate to the initial pose before each round (only the inlier set
   // carries over); false = continue from the previous round's estimate.
   bool restart_each_round = true;
+  // Outlier test on inv_sigma2 * weight instead of inv_sigma2 (see MakeEdgeModel, issue 21).
+  bool weighted_outlier_test = false;
   void Check() const;  // throws InputError naming the bad field
 };
 
@@ -102,6 +104,7 @@ struct LocalBAOptions {
   int iterations_refine = 10;  // ORB-SLAM2: optimize(10) without robust kernel, outliers removed
   double chi2_mono = 5.991;
   double chi2_stereo = 7.815;
+  bool weighted_outlier_test = false;  // as PoseOnlyOptions
   void Check() const;
 };
 

@@ -52,7 +52,7 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
                        "observation " + o.obs_id + ": inv_sigma2 and weight must be >= 0");
     }
     edges[i] = MakeEdgeModel(o.uv, o.u_right, o.inv_sigma2, o.weight, options.chi2_mono,
-                             options.chi2_stereo);
+                             options.chi2_stereo, options.weighted_outlier_test);
   }
 
   const bool log = trace != nullptr && trace->full_enabled();
@@ -134,10 +134,11 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
   if (log) {
     std::vector<double> residual_end;
     for (size_t i = 0; i < n; ++i) {
-      const double c = EdgeChi2(K, result.T_cw, observations[i].X_w, edges[i], &residual_end);
+      double weighted = 0;
+      const double c = EdgeChi2(K, result.T_cw, observations[i].X_w, edges[i], &residual_end, &weighted);
       trace->Residual(call_id, edges[i].stereo ? "rgbd3" : "mono2", observations[i].obs_id,
                       residual_start[i], residual_end, observations[i].inv_sigma2,
-                      observations[i].weight, HuberRho(c, edges[i].threshold), c,
+                      observations[i].weight, HuberRho(weighted, edges[i].threshold), c,
                       result.inlier[i] != 0);
     }
   }

@@ -173,26 +173,31 @@ double HuberRho(double s, double delta2) {
 }
 
 EdgeModel MakeEdgeModel(const Eigen::Vector2d& uv, double u_right, double inv_sigma2, double weight,
-                        double chi2_mono, double chi2_stereo) {
+                        double chi2_mono, double chi2_stereo, bool weighted_test) {
   EdgeModel e;
   e.stereo = u_right >= 0;
   e.obs = Eigen::Vector3d(uv.x(), uv.y(), u_right);
   e.info = inv_sigma2 * weight;
+  e.test_info = weighted_test ? e.info : inv_sigma2;
   e.threshold = e.stereo ? chi2_stereo : chi2_mono;
   return e;
 }
 
 double EdgeChi2(const Intrinsics& K, const SE3& T_cw, const Eigen::Vector3d& X_w,
-                const EdgeModel& edge, std::vector<double>* raw) {
+                const EdgeModel& edge, std::vector<double>* raw, double* weighted_chi2) {
   double e[3] = {0, 0, 0};
   const int dof = edge.stereo ? 3 : 2;
   const bool ok = edge.stereo ? RawResidual<3>(K, T_cw, X_w, edge.obs, e)
                               : RawResidual<2>(K, T_cw, X_w, edge.obs, e);
   if (raw != nullptr) raw->assign(e, ok ? e + dof : e);
-  if (!ok) return std::numeric_limits<double>::infinity();
+  if (!ok) {
+    if (weighted_chi2 != nullptr) *weighted_chi2 = std::numeric_limits<double>::infinity();
+    return std::numeric_limits<double>::infinity();
+  }
   double sq = 0;
   for (int k = 0; k < dof; ++k) sq += e[k] * e[k];
-  return edge.info * sq;
+  if (weighted_chi2 != nullptr) *weighted_chi2 = edge.info * sq;
+  return edge.test_info * sq;
 }
 
 template class PoseOnlyCost<2>;

@@ -136,16 +136,22 @@ double HuberRho(double s, double delta2);
 struct EdgeModel {
   bool stereo = false;                            // rgbd3 (u_right >= 0) or mono2
   Eigen::Vector3d obs = Eigen::Vector3d::Zero();  // (u, v, u_right)
-  double info = 0;                                // inv_sigma2 * weight
+  double info = 0;                                // inv_sigma2 * weight (the optimised cost)
+  double test_info = 0;                           // information of the outlier test (see below)
   double threshold = 0;                           // chi2 threshold of this residual kind
 };
+// weighted_test = false (default of both calls, issue 21): the outlier test uses the keypoint's
+// own information inv_sigma2, so a down-weighted dynamic observation with a large error is still
+// an outlier (ORB-SLAM2 has no weights; the weight is SGDO's omega / MGD's 1 - P, which must only
+// scale the residual's influence). true: the test uses inv_sigma2 * weight (dynref <= v0.1).
 EdgeModel MakeEdgeModel(const Eigen::Vector2d& uv, double u_right, double inv_sigma2, double weight,
-                        double chi2_mono, double chi2_stereo);
+                        double chi2_mono, double chi2_stereo, bool weighted_test);
 
-// chi2 = info * |obs - pi(T_cw X_w)|^2 of one edge; +inf (outlier) when the point is not in front
-// of the camera. The raw (unwhitened) residual goes to *raw when given (empty when invalid).
+// Outlier-test chi2 = test_info * |obs - pi(T_cw X_w)|^2 of one edge; +inf (outlier) when the
+// point is not in front of the camera. The optimised chi2 (info * |.|^2) goes to *weighted_chi2
+// and the raw (unwhitened) residual to *raw when given (empty when invalid).
 double EdgeChi2(const Intrinsics& K, const SE3& T_cw, const Eigen::Vector3d& X_w,
-                const EdgeModel& edge, std::vector<double>* raw);
+                const EdgeModel& edge, std::vector<double>* raw, double* weighted_chi2 = nullptr);
 
 extern template class PoseOnlyCost<2>;
 extern template class PoseOnlyCost<3>;

@@ -35,6 +35,10 @@ const std::vector<KeyRow>& Rows() {
        [](BackboneOptions& o, double v) { o.mapper.ba.chi2_stereo = v; }},
       {"ba_iterations_refine", "10", "default: ORB-SLAM2 Optimizer::LocalBundleAdjustment optimize(10) without outliers", K::kInt, 0, 1000, false,
        [](BackboneOptions& o, double v) { o.mapper.ba.iterations_refine = static_cast<int>(v); }},
+      {"ba_weighted_outlier_test", "false",
+       "dynref (issue 21): the local BA outlier test uses inv_sigma2 only, a method's weight scales the cost, not the "
+       "test; true = inv_sigma2 * weight (ORB-SLAM2 has no weights)",
+       K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.mapper.ba.weighted_outlier_test = v != 0; }},
       {"ba_iterations_robust", "5", "default: ORB-SLAM2 Optimizer::LocalBundleAdjustment optimize(5) with Huber", K::kInt, 0, 1000, false,
        [](BackboneOptions& o, double v) { o.mapper.ba.iterations_robust = static_cast<int>(v); }},
       {"camera_rgb_flag", "true",
@@ -66,6 +70,10 @@ const std::vector<KeyRow>& Rows() {
        [](BackboneOptions& o, double v) { o.tracker.pose.iterations = static_cast<int>(v); }},
       {"pose_min_edges", "10", "default: ORB-SLAM2 Optimizer::PoseOptimization stops when optimizer.edges().size() < 10", K::kInt, 0, 100000, false,
        [](BackboneOptions& o, double v) { o.tracker.pose.min_edges = static_cast<int>(v); }},
+      {"pose_weighted_outlier_test", "false",
+       "dynref (issue 21): the pose-only outlier test uses inv_sigma2 only, a method's weight scales the cost, not "
+       "the test; true = inv_sigma2 * weight (ORB-SLAM2 has no weights)",
+       K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.tracker.pose.weighted_outlier_test = v != 0; }},
       {"pose_rounds", "4", "default: ORB-SLAM2 Optimizer::PoseOptimization 4 rounds", K::kInt, 1, 100, false,
        [](BackboneOptions& o, double v) { o.tracker.pose.rounds = static_cast<int>(v); }},
       {"reloc_recent_keyframes", "10",

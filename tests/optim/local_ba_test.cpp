@@ -161,3 +161,22 @@ TEST_CASE("local-ba: all keyframes fixed moves only points, no observations is a
   CHECK(empty.inlier.empty());
   for (const BAPoint& pt : p.points) CHECK(empty.X_w.at(pt.id) == pt.X_w);
 }
+
+TEST_CASE("local-ba: a down-weighted observation with a large error is an outlier (unweighted test, issue 21)") {
+  SyntheticBASpec spec;
+  spec.outlier_ratio = 0;
+  spec.noise_px = 0;
+  spec.num_points = 300;
+  SyntheticBAProblem p = MakeSyntheticBAProblem(spec);
+  BAObservation& moving = p.observations[11];
+  moving.uv.x() += 5;
+  if (moving.u_right >= 0) moving.u_right += 5;
+  moving.weight = 0.1;
+  moving.inv_sigma2 = 1;
+  LocalBAOptions o;
+  const LocalBAResult r = LocalBundleAdjust(SyntheticIntrinsics(), p.keyframes, p.points, p.observations, o, nullptr, "t");
+  CHECK_FALSE(r.inlier[11]);
+  o.weighted_outlier_test = true;
+  const LocalBAResult w = LocalBundleAdjust(SyntheticIntrinsics(), p.keyframes, p.points, p.observations, o, nullptr, "t");
+  CHECK(w.inlier[11]);
+}

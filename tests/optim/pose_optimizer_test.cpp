@@ -175,3 +175,28 @@ TEST_CASE("pose-only: a point behind the camera is an outlier, not a failure") {
   CHECK(r.inlier.back() == 0);
   CHECK(TranslationErrorM(r.T_cw, p.T_cw_true) < 1e-3);
 }
+
+TEST_CASE("pose-only: a down-weighted observation with a large error is an outlier (unweighted test, issue 21)") {
+  SyntheticPoseSpec spec;
+  spec.outlier_ratio = 0;
+  spec.num_octaves = 1;
+  spec.noise_px = 0;
+  SyntheticPoseProblem p = MakeSyntheticPoseProblem(spec);
+  // A "moving" point: 5 px off in u (and its virtual right coordinate), weight 0.1 as a
+  // dynamic method would give it. Unweighted chi2 = 2 x 25 = 50 > 7.815: outlier. The old
+  // weighted test saw 0.1 x 50 = 5 <= 7.815 and counted it as an inlier.
+  PoseObservation& moving = p.observations[7];
+  moving.uv.x() += 5;
+  moving.u_right += 5;
+  moving.weight = 0.1;
+  moving.inv_sigma2 = 1;
+  PoseOnlyOptions o;
+  const PoseOnlyResult r = OptimizePose(SyntheticIntrinsics(), p.T_cw_init, p.observations, o, nullptr, "t");
+  CHECK_FALSE(r.inlier[7]);
+  CHECK(r.chi2[7] == Approx(50).margin(0.5));
+  CHECK(r.num_inliers == static_cast<int>(p.observations.size()) - 1);
+  o.weighted_outlier_test = true;  // the switch keeps the old reading
+  const PoseOnlyResult w = OptimizePose(SyntheticIntrinsics(), p.T_cw_init, p.observations, o, nullptr, "t");
+  CHECK(w.inlier[7]);
+  CHECK(w.chi2[7] == Approx(5).margin(0.05));
+}
