@@ -35,10 +35,15 @@ bool ClassColour(int class_id, uint8_t& r, uint8_t& g, uint8_t& b);
 
 // One keyframe's cloud in the CAMERA frame, before voxelisation. bgr CV_8UC3, depth CV_32F m,
 // exclude CV_8U (non-zero = dynamic, skipped) or empty, class_labels CV_16S (-1 none) or empty.
-// Pixel (u, v) is back-projected with the pinhole model (no undistortion: TUM fr3 / synthetic).
+// Raw pixel (u, v) is back-projected along its undistorted ray: rays(v, u) = (x, y) with
+// P = z (x, y, 1) (UndistortedRays); without distortion (empty rays) the pinhole model.
 PointCloud BackProjectKeyframe(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& exclude,
                                const cv::Mat& class_labels, const Camera& camera,
-                               const DenseMapOptions& options);
+                               const DenseMapOptions& options, const cv::Mat& rays = cv::Mat());
+
+// CV_64FC2 normalised undistorted coordinates of every raw pixel (cv::undistortPoints, once per
+// camera); empty when the camera has no distortion (issue 21 defect 4: TUM fr1/fr2).
+cv::Mat UndistortedRays(const Camera& camera);
 
 struct KeyframeInsertStats {
   int64_t back_projected = 0;
@@ -62,6 +67,8 @@ class DenseMap {
  private:
   int64_t FilterGlobal();
   DenseMapOptions options_;
+  cv::Mat rays_;  // UndistortedRays of the run's camera (empty: no distortion)
+  bool rays_ready_ = false;
   PointCloud cloud_;
   int keyframes_ = 0;
   int since_filter_ = 0;

@@ -21,6 +21,16 @@ struct Camera {
   cv::Matx33d K() const { return {fx, 0, cx, 0, fy, cy, 0, 0, 1}; }
   cv::Mat DistCoeffs() const { return (cv::Mat_<double>(1, 5) << k1, k2, p1, p2, k3); }
   double baseline_m() const { return bf / fx; }
+  // Raw (distorted) pixel of an undistorted pixel: the forward Brown-Conrady model (OpenCV's
+  // k1 k2 p1 p2 k3); identity without distortion.
+  cv::Point2d Distort(double u, double v) const {
+    if (!HasDistortion()) return {u, v};
+    const double x = (u - cx) / fx, y = (v - cy) / fy, r2 = x * x + y * y;
+    const double radial = 1 + k1 * r2 + k2 * r2 * r2 + k3 * r2 * r2 * r2;
+    const double xd = x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x);
+    const double yd = y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y;
+    return {fx * xd + cx, fy * yd + cy};
+  }
   // The pinhole part (core/intrinsics.h): fx, fy, cx, cy, bf, width, height.
   Intrinsics Pinhole() const { return {fx, fy, cx, cy, bf, width, height}; }
 };

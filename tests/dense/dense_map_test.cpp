@@ -65,3 +65,24 @@ TEST_CASE("dense map: keyframes accumulate, global filter every N keyframes, det
   o.pixel_stride = 0;
   CHECK_THROWS_WITH(o.Check(), Catch::Contains("pixel_stride"));
 }
+
+TEST_CASE("dense map: a distorted camera back-projects each raw pixel along its undistorted ray (issue 21 defect 4)") {
+  const Camera cam = CameraPreset("tum_fr1");
+  const cv::Mat rays = UndistortedRays(cam);
+  REQUIRE(!rays.empty());
+  CHECK(UndistortedRays(CameraPreset("tum_fr3")).empty());  // no distortion: pinhole as before
+  const cv::Mat bgr(cam.height, cam.width, CV_8UC3, cv::Scalar(10, 20, 30));
+  const cv::Mat depth(cam.height, cam.width, CV_32F, cv::Scalar(2.0f));
+  DenseMapOptions o;
+  o.pixel_stride = 40;
+  const PointCloud c = BackProjectKeyframe(bgr, depth, cv::Mat(), cv::Mat(), cam, o, rays);
+  REQUIRE(!c.empty());
+  // Point 0 is raw pixel (0, 0): projected (pinhole) and distorted it lands back on (0, 0).
+  const cv::Point2d px = cam.Distort(cam.fx * c[0].x / c[0].z + cam.cx, cam.fy * c[0].y / c[0].z + cam.cy);
+  CHECK(px.x == Approx(0).margin(0.02));
+  CHECK(px.y == Approx(0).margin(0.02));
+  // The pinhole reading (no rays) puts the corner pixel elsewhere by several pixels.
+  const PointCloud p = BackProjectKeyframe(bgr, depth, cv::Mat(), cv::Mat(), cam, o);
+  const cv::Point2d q = cam.Distort(cam.fx * p[0].x / p[0].z + cam.cx, cam.fy * p[0].y / p[0].z + cam.cy);
+  CHECK(std::hypot(q.x, q.y) > 2.0);
+}

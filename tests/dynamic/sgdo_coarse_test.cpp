@@ -75,3 +75,22 @@ TEST_CASE("sgdo coarse: mode names round-trip and bad options are named") {
   o.vote_ratio = 0;
   CHECK_THROWS_WITH(o.Check(), Catch::Contains("vote_ratio"));
 }
+
+TEST_CASE("sgdo coarse: why a point has no distance is kept in the decision (issue 21 defects 2, 3)") {
+  CoarseOptions o;
+  std::vector<CoarseInput> in(4);
+  in[0].instance = 1, in[0].no_distance = "no-F";    // frame without a valid F: labelled as such
+  in[1].instance = 0, in[1].no_distance = "no-F";
+  in[2].instance = 1, in[2].no_distance = "pruned";  // flow pruned (border / patch SAD): not judged by D
+  in[3].instance = 0, in[3].no_distance = "pruned";
+  const CoarseResult r = CombineCoarse(in, o);
+  CHECK(r.decisions[0].reason == "mask-no-F");
+  CHECK_FALSE(r.decisions[0].keep);
+  CHECK(r.decisions[1].reason == "no-F");
+  CHECK(r.decisions[1].keep);
+  CHECK(r.decisions[2].reason == "mask-pruned");
+  CHECK(r.decisions[3].reason == "pruned");
+  CHECK(r.decisions[3].keep);  // a static point with poor flow is no longer rejected as "epipolar"
+  o.mode = CoarseMode::kEpipolarOnly;
+  CHECK(CombineCoarse(in, o).decisions[0].reason == "no-F");
+}

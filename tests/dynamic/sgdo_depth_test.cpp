@@ -1,5 +1,7 @@
 #include <catch2/catch.hpp>
 
+#include <opencv2/calib3d.hpp>
+
 #include "dynamic/sgdo/depth_consistency.h"
 
 using namespace dynref::sgdo;
@@ -53,4 +55,31 @@ TEST_CASE("sgdo depth: skipped tests keep the point (spec 001 step 5)") {
   DepthConsistencyOptions bad;
   bad.eta = 0;
   CHECK_THROWS_WITH(bad.Check(), Catch::Contains("eta"));
+}
+
+TEST_CASE("sgdo depth: a distorted keyframe depth image is read at the distorted pixel (issue 21 defect 4)") {
+  // TUM fr1 distortion. The keyframe sees a slanted wall z(y_n) = 3 + 5 y_n (y_n = normalised
+  // undistorted image y); its RAW depth image holds at raw pixel (u, v) the depth of the ray
+  // through the undistorted position of (u, v).
+  dynref::Camera cam = dynref::CameraPreset("tum_fr1");
+  cv::Mat depth(cam.height, cam.width, CV_32F);
+  std::vector<cv::Point2d> raw, und;
+  for (int v = 0; v < cam.height; ++v)
+    for (int u = 0; u < cam.width; ++u) raw.emplace_back(u, v);
+  cv::undistortPoints(raw, und, cv::Mat(cam.K()), cam.DistCoeffs());
+  for (int v = 0; v < cam.height; ++v)
+    for (int u = 0; u < cam.width; ++u) depth.at<float>(v, u) = float(3.0 + 5.0 * und[size_t(v) * cam.width + u].y);
+  const dynref::Intrinsics K = cam.Pinhole();
+  // A static point near the image corner (undistorted pixel), current frame = keyframe.
+  const double u = 60, v = 40, y_n = (v - K.cy) / K.fy, z = 3.0 + 5.0 * y_n;
+  const DepthCheck with = CheckDepthConsistency(u, v, z, K, Eigen::Isometry3d::Identity(), depth, &cam);
+  REQUIRE(with.tested);
+  CHECK(std::abs(with.eps) < 0.01);  // consistent: read at the distorted pixel
+  const DepthCheck without = CheckDepthConsistency(u, v, z, K, Eigen::Isometry3d::Identity(), depth);
+  REQUIRE(without.tested);
+  CHECK(std::abs(without.eps) > 0.03);  // the old reading: another part of the wall
+  // Camera::Distort inverts undistortPoints.
+  const cv::Point2d back = cam.Distort(K.fx * und[50 * cam.width + 70].x + K.cx, K.fy * und[50 * cam.width + 70].y + K.cy);
+  CHECK(back.x == Approx(70).margin(0.01));
+  CHECK(back.y == Approx(50).margin(0.01));
 }

@@ -308,3 +308,43 @@ TEST_CASE("sgdo reproduce: bad arguments exit 2 without running anything") {
   CHECK(!test::FileExists(dir + "/w"));
   CHECK(!test::FileExists(dir + "/t.md"));
 }
+
+TEST_CASE("sgdo stages: a culled reference keyframe is replaced by its live parent (issue 21 defect 5)") {
+  const std::string dir = test::ScratchDir("sgdo_culled_ref");
+  cv::Mat g0, d0;
+  Render(0, Texture(420, 240, 1), Texture(420, 240, 2), Texture(50, 100, 3), g0, d0);
+  Map map;
+  auto kf0 = std::make_unique<KeyFrame>();
+  SetupFrame(kf0->frame, 0, g0, d0, nullptr);
+  KeyFrame* live = map.AddKeyFrame(std::move(kf0));
+  auto kf1 = std::make_unique<KeyFrame>();
+  SetupFrame(kf1->frame, 1, g0, d0, nullptr);
+  KeyFrame* culled = map.AddKeyFrame(std::move(kf1));
+  culled->parent = live->id;
+  culled->bad = true;
+  culled->frame.depth_m.release();  // what Map::SetBadKeyFrame does to a culled keyframe
+  Sgdo sgdo;
+  auto depth = sgdo.stage("sgdo.depth", Params("sgdo.depth",
+      {{"eta", P("0.1")}, {"lambda", P("100")}, {"reject", P("true")}, {"weight", P("true")}}));
+  trace::TraceWriter tr(dir + "/trace.dtr", trace::Level::kFrames, trace::RunHeader{});
+  Frame f;
+  SetupFrame(f, 2, g0, d0, nullptr);
+  f.T_cw = SE3::Identity();
+  f.has_pose = true;
+  tr.BeginFrame(2, 0.2);
+  FrameEdit edit(f, map, Hook::kAfterInitialPose);
+  StageContext ctx{edit, nullptr, culled, map, TestCamera(), tr};
+  depth->Run(ctx);
+  tr.Close("complete");
+  trace::TraceReader reader(dir + "/trace.dtr");
+  int64_t tested = -1, hops = -1, skipped = 0;
+  for (const trace::Record& r : reader.ReadGroup(0)) {
+    if (r.type != trace::RecordType::kCount || r.stage != "sgdo.depth") continue;
+    if (r.name == "tested") tested = r.value;
+    if (r.name == "reference_kf_culled_hops") hops = r.value;
+    if (r.name == "skipped_no_pose_or_kf") skipped = r.value;
+  }
+  CHECK(hops == 1);
+  CHECK(skipped == 0);
+  CHECK(tested > 100);  // tested against the parent's depth (the old code skipped the frame)
+}

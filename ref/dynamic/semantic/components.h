@@ -77,6 +77,8 @@ class MapModule : public dynref::MapModule {
   MapOptions o_;
   std::shared_ptr<Board> board_;
   std::map<int64_t, dense::PointCloud> keyframe_clouds_;  // camera frame, by keyframe id
+  cv::Mat rays_;  // UndistortedRays of the run's camera (empty: no distortion)
+  bool rays_ready_ = false;
 };
 
 }  // namespace dynref::semantic

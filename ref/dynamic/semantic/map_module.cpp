@@ -71,8 +71,9 @@ void MapModule::OnKeyFrame(const MapModuleContext& ctx) {
   const Frame& f = ctx.frame;
   if (!board_->Has(f)) throw std::logic_error("semantic.map needs semantic.mask earlier in the stage list");
   const cv::Mat exclude = o_.remove_dynamic ? board_->dynamic.mask : cv::Mat();
-  dense::PointCloud cloud =
-      dense::BackProjectKeyframe(f.rgb, f.depth_m, exclude, board_->static_classes, ctx.camera, o_.backproject);
+  if (!rays_ready_) rays_ = dense::UndistortedRays(ctx.camera), rays_ready_ = true;
+  dense::PointCloud cloud = dense::BackProjectKeyframe(f.rgb, f.depth_m, exclude, board_->static_classes, ctx.camera,
+                                                       o_.backproject, rays_);
   const double a = o_.semantic_alpha;
   for (dense::ColoredPoint& p : cloud) {
     uint8_t r, g, b;

@@ -62,12 +62,12 @@ CoarseResult CombineCoarse(const std::vector<CoarseInput>& inputs, const CoarseO
         break;
       case CoarseMode::kEpipolarOnly:
         d = geometric_dynamic(in) ? CoarseDecision{false, "epipolar"}
-                                  : CoarseDecision{true, in.has_distance ? "static" : "no-pair"};
+                                  : CoarseDecision{true, in.has_distance ? "static" : in.no_distance};
         break;
       case CoarseMode::kPerPoint:
         if (geometric_dynamic(in)) d = {false, "epipolar"};
-        else if (in_mask && !in.has_distance) d = {false, "mask-no-pair"};
-        else d = {true, in.has_distance ? "static" : "no-pair"};
+        else if (in_mask && !in.has_distance) d = {false, "mask-" + in.no_distance};
+        else d = {true, in.has_distance ? "static" : in.no_distance};
         break;
       case CoarseMode::kInstanceVote:
         if (in_mask) {
@@ -75,7 +75,7 @@ CoarseResult CombineCoarse(const std::vector<CoarseInput>& inputs, const CoarseO
                                            : CoarseDecision{true, "instance-still"};
         } else {
           d = geometric_dynamic(in) ? CoarseDecision{false, "epipolar"}
-                                    : CoarseDecision{true, in.has_distance ? "static" : "no-pair"};
+                                    : CoarseDecision{true, in.has_distance ? "static" : in.no_distance};
         }
         break;
     }

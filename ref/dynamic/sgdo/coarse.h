@@ -29,14 +29,19 @@ struct CoarseOptions {
 // Per keypoint input of the combination.
 struct CoarseInput {
   int instance = 0;            // dynamic instance id covering the keypoint, 0 = outside M
-  bool has_distance = false;   // tracked pair and a valid F
+  bool has_distance = false;   // tracked, unpruned pair and a valid F
   double epipolar_distance_px = 0;
+  // Why there is no distance (issue 21): "no-pair" (LK failed), "pruned" (DS-SLAM border / patch
+  // SAD: the flow is not trusted, so the point is not judged by it) or "no-F" (fewer than 8 usable
+  // pairs in the frame: no epipolar test at all).
+  std::string no_distance = "no-pair";
 };
 
 struct CoarseDecision {
   bool keep = true;
-  std::string reason;  // "static", "epipolar", "mask-no-pair", "mask", "instance-vote",
-                       // "instance-still", "no-pair"
+  std::string reason;  // "static", "epipolar", "mask", "instance-vote", "instance-still", and
+                       // for points without a distance "<no_distance>" (kept) or
+                       // "mask-<no_distance>" (in M, rejected)
 };
 
 struct CoarseResult {

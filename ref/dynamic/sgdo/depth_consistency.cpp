@@ -11,7 +11,7 @@ void DepthConsistencyOptions::Check() const {
 }
 
 DepthCheck CheckDepthConsistency(double u, double v, double depth_i_m, const Intrinsics& K,
-                                 const Eigen::Isometry3d& T_kc, const cv::Mat& depth_kf) {
+                                 const Eigen::Isometry3d& T_kc, const cv::Mat& depth_kf, const Camera* distortion) {
   DepthCheck r;
   if (!(depth_i_m > 0) || !std::isfinite(depth_i_m)) {
     r.skip_reason = "no-depth";
@@ -27,7 +27,8 @@ DepthCheck CheckDepthConsistency(double u, double v, double depth_i_m, const Int
   }
   r.u_k = K.fx * X_k.x() / X_k.z() + K.cx;
   r.v_k = K.fy * X_k.y() / X_k.z() + K.cy;
-  const long x = std::lround(r.u_k), y = std::lround(r.v_k);
+  const cv::Point2d raw = distortion != nullptr ? distortion->Distort(r.u_k, r.v_k) : cv::Point2d(r.u_k, r.v_k);
+  const long x = std::lround(raw.x), y = std::lround(raw.y);
   if (depth_kf.empty() || x < 0 || y < 0 || x >= depth_kf.cols || y >= depth_kf.rows) {
     r.skip_reason = "outside-kf";
     return r;

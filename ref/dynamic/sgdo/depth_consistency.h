@@ -13,6 +13,7 @@
 #include <string>
 
 #include "core/intrinsics.h"
+#include "io/camera.h"
 
 namespace dynref::sgdo {
 
@@ -32,8 +33,12 @@ struct DepthCheck {
 };
 
 // T_kc = T_kw * T_cw^-1 (keyframe_from_current). depth_kf: CV_32F metres, 0 = invalid.
+// (u, v) and (u_k, v_k) are undistorted pixels; the keyframe's depth image is raw (distorted),
+// so d_k is read at the distorted position of (u_k, v_k) when `distortion` has distortion
+// (issue 21 defect 4: TUM fr1/fr2). u_k, v_k in the result stay undistorted.
 DepthCheck CheckDepthConsistency(double u, double v, double depth_i_m, const Intrinsics& K,
-                                 const Eigen::Isometry3d& T_kc, const cv::Mat& depth_kf);
+                                 const Eigen::Isometry3d& T_kc, const cv::Mat& depth_kf,
+                                 const Camera* distortion = nullptr);
 
 // Sec. 3.5: omega(p) = exp(-lambda * eps^2).
 inline double StaticWeight(double eps, double lambda) { return std::exp(-lambda * eps * eps); }

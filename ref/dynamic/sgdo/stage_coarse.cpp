@@ -2,7 +2,9 @@
 //   a. LK pairs: each current keypoint tracked back into frame k-1 (spec 001 E2);
 //   b. pairs pruned for F: LK failure, border b_edge, 3x3 SAD > c_patch, P2 in M;
 //   c. F by RANSAC 7-point with Rng(seed, "sgdo.F") (one stream per run, drawn in frame order);
-//   d. D per tracked keypoint (Eq. 5), geometric-dynamic iff D > th_epi;
+//   d. D per tracked keypoint whose pair was not pruned for its flow (border, patch SAD: issue 21;
+//      a pair pruned only for lying in M is still tested, that is the point of the test),
+//      geometric-dynamic iff D > th_epi; without a valid F nothing is tested ("no-F");
 //   e. combination with M per `combination` (spec 001 E1, see coarse.h).
 // Coordinates: raw keypoint positions for LK; undistorted (cv::undistortPoints, K kept) for F
 // and D when the camera has distortion (TUM fr3 and synthetic: none).
@@ -11,6 +13,18 @@
 #include "dynamic/sgdo/stages.h"
 
 namespace dynref::sgdo {
+namespace {
+
+// Trace code of LkPair::prune_reason: 0 usable, 1 lk-failed, 2 border, 3 patch-sad, 4 in-mask.
+int PruneCode(const std::string& reason) {
+  if (reason.empty()) return 0;
+  if (reason == "lk-failed") return 1;
+  if (reason == "border") return 2;
+  if (reason == "patch-sad") return 3;
+  return 4;
+}
+
+}  // namespace
 
 CoarseStage::CoarseStage(const ParamMap& p, std::shared_ptr<Blackboard> board)
     : board_(std::move(board)), rng_(static_cast<uint64_t>(p.GetInt("ransac_seed")), "sgdo.F") {
@@ -95,28 +109,43 @@ void CoarseStage::Run(StageContext& ctx) {
   std::vector<uint8_t> f_inlier(pairs.size(), 0);
   for (size_t u = 0; u < usable_of.size() && F.valid; ++u) f_inlier[usable_of[u]] = F.inliers[u];
 
-  // d. Epipolar distance per tracked keypoint.
+  // d. Epipolar distance per tracked keypoint, traced for every candidate (also when there is
+  // none: why). F itself is traced per frame.
+  if (!pairs.empty())
+    tr.ProbabilityUpdate("sgdo.F", trace::EntityKind::kFrame, "f" + std::to_string(f.index),
+                         {{"F00", F.F(0, 0)}, {"F01", F.F(0, 1)}, {"F02", F.F(0, 2)}, {"F10", F.F(1, 0)},
+                          {"F11", F.F(1, 1)}, {"F12", F.F(1, 2)}, {"F20", F.F(2, 0)}, {"F21", F.F(2, 1)},
+                          {"F22", F.F(2, 2)}, {"usable", static_cast<double>(usable.size())},
+                          {"inliers", static_cast<double>(F.inlier_count)}},
+                         0.0, F.valid ? 1.0 : 0.0);
   int64_t tracked = 0;
   for (size_t c = 0; c < pairs.size(); ++c) {
     const geometry::LkPair& pr = pairs[c];
     const int i = candidates[c];
-    if (!pr.tracked) continue;
-    ++tracked;
-    if (!F.valid) continue;
     CoarseInput& in = inputs[i];
-    in.has_distance = true;
-    in.epipolar_distance_px = geometry::EpipolarDistance(F.F, {pr.p_prev.x, pr.p_prev.y}, {pr.p_cur.x, pr.p_cur.y});
-    const bool dyn = in.epipolar_distance_px > coarse_.epipolar_threshold_px;
+    const bool flow_pruned = pr.prune_reason == "border" || pr.prune_reason == "patch-sad";
+    if (pr.tracked) ++tracked;
+    if (!pr.tracked) in.no_distance = "no-pair";
+    else if (flow_pruned) in.no_distance = "pruned";
+    else if (!F.valid) in.no_distance = "no-F";
+    const bool test = pr.tracked && !flow_pruned && F.valid;
+    if (test) {
+      in.has_distance = true;
+      in.epipolar_distance_px = geometry::EpipolarDistance(F.F, {pr.p_prev.x, pr.p_prev.y}, {pr.p_cur.x, pr.p_cur.y});
+    }
+    const bool dyn = test && in.epipolar_distance_px > coarse_.epipolar_threshold_px;
+    // p(dynamic): 1 geometric-dynamic, 0 static, 0.5 not tested (no pair, pruned flow, no F).
     tr.ProbabilityUpdate("sgdo.epipolar", trace::EntityKind::kFeature, f.FeatureId(i),
                          {{"u_prev", pr.p_prev.x}, {"v_prev", pr.p_prev.y}, {"u_cur", pr.p_cur.x},
                           {"v_cur", pr.p_cur.y}, {"D_px", in.epipolar_distance_px},
                           {"th_epi_px", coarse_.epipolar_threshold_px},
                           {"instance", static_cast<double>(in.instance)},
                           {"used_for_F", pr.usable_for_F() ? 1.0 : 0.0},
-                          {"F_inlier", f_inlier[c] ? 1.0 : 0.0}, {"patch_sad", pr.patch_sad}},
-                         0.0, dyn ? 1.0 : 0.0);  // p(dynamic): 1 = geometric-dynamic
+                          {"F_inlier", f_inlier[c] ? 1.0 : 0.0}, {"patch_sad", pr.patch_sad},
+                          {"tracked", pr.tracked ? 1.0 : 0.0}, {"F_valid", F.valid ? 1.0 : 0.0},
+                          {"prune", static_cast<double>(PruneCode(pr.prune_reason))}, {"tested", test ? 1.0 : 0.0}},
+                         0.0, test ? (dyn ? 1.0 : 0.0) : 0.5);
   }
-
   // e. Combination and decisions (candidates only; already excluded keys are left alone).
   std::vector<CoarseInput> cand_inputs;
   for (int i : candidates) cand_inputs.push_back(inputs[i]);

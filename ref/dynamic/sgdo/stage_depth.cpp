@@ -27,7 +27,12 @@ void DepthStage::Run(StageContext& ctx) {
   const Frame& f = ctx.frame.view();
   trace::TraceWriter& tr = ctx.trace;
   const KeyFrame* kf = ctx.reference_kf;
-  if (!f.has_pose || kf == nullptr || kf->frame.depth_m.empty()) {
+  // A reference keyframe that local mapping culled has released its images and keeps only a
+  // pose relative to its parent (issue 21 defect 5): test against the nearest live ancestor.
+  int culled_hops = 0;
+  while (kf != nullptr && kf->bad && culled_hops < 1000) kf = ctx.map.kf(kf->parent), ++culled_hops;
+  if (culled_hops > 0) tr.FrameCount(name(), "reference_kf_culled_hops", culled_hops);
+  if (!f.has_pose || kf == nullptr || kf->bad || kf->frame.depth_m.empty()) {
     tr.FrameCount(name(), "skipped_no_pose_or_kf", 1);
     return;
   }
@@ -39,7 +44,7 @@ void DepthStage::Run(StageContext& ctx) {
   for (int i = 0; i < static_cast<int>(f.N()); ++i) {
     if (f.IsExcluded(i)) continue;
     const cv::Point2f& p = f.keys_un[i].pt;
-    const DepthCheck c = CheckDepthConsistency(p.x, p.y, f.depth[i], K, T_kc, kf->frame.depth_m);
+    const DepthCheck c = CheckDepthConsistency(p.x, p.y, f.depth[i], K, T_kc, kf->frame.depth_m, &ctx.camera);
     const double omega = c.tested ? StaticWeight(c.eps, options_.lambda) : 1.0;
     const bool reject = reject_ && c.tested && std::abs(c.eps) > options_.eta;
     tr.ProbabilityUpdate(name(), trace::EntityKind::kFeature, f.FeatureId(i),
@@ -47,8 +52,9 @@ void DepthStage::Run(StageContext& ctx) {
                           {"z_k", c.z_k}, {"d_k", c.d_k}, {"eps", c.eps}, {"eta", options_.eta},
                           {"lambda", options_.lambda}, {"tested", c.tested ? 1.0 : 0.0},
                           {"omega", omega}},
-                         // Trace convention p(dynamic) (overlay colour): 1 - static weight.
-                         1.0 - f.Weight(i), 1.0 - (weight_ ? omega : f.Weight(i)));
+                         // Trace convention p(dynamic) (overlay colour): 1 - static weight, and 1
+                         // for a rejected point whatever the weight switch (issue 21).
+                         1.0 - f.Weight(i), reject ? 1.0 : 1.0 - (weight_ ? omega : f.Weight(i)));
     if (c.tested) ++tested; else ++skipped;
     if (reject) {
       ctx.frame.Exclude(i, name(), "depth-eps");
