@@ -94,6 +94,7 @@ void AtomicOutputFile::Commit() {
   out_.flush();
   if (!out_) throw std::runtime_error("write failed: " + temp_path_);
   out_.close();
+  if (out_.fail()) throw std::runtime_error("write failed (close): " + temp_path_);  // e.g. disk full
   AtomicRename(temp_path_, final_path_);
   committed_ = true;
 }

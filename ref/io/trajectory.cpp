@@ -31,6 +31,12 @@ TumTrajectory ReadTumTrajectory(const std::string& path, const TumReadOptions& o
         throw InputError(path, row.line,
                          std::string("pose field ") + kNames[k] + " is " + row.fields[k] +
                              " (NaN/inf pose)");
+      // Squares of positions enter sums of squares (ATE, alignment): beyond 1e9 m they overflow or
+      // lose every digit (1e300 gave "rmse inf" with exit 0; issue 20 item 9). 1e9 m = 7 AU.
+      if (k < 3 && std::abs(v[k]) > 1e9)
+        throw InputError(path, row.line,
+                         std::string("pose field ") + kNames[k] + " = " + row.fields[k] +
+                             " m is beyond 1e9 m (not a camera trajectory)");
     }
     const double qnorm = std::sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5] + v[6] * v[6]);
     if (!(std::abs(qnorm - 1.0) <= options.quaternion_norm_tolerance))

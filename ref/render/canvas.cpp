@@ -1,5 +1,7 @@
 #include "render/canvas.h"
 
+#include <OpenImageIO/filesystem.h>
+
 #include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
@@ -155,12 +157,15 @@ void Canvas::Paste(const Canvas& src, int x, int y) {
 }
 
 void Canvas::WritePng(const std::string& path) const {
-  const std::string temp = TempPathFor(path);
-  if (!buf_.write(temp, OIIO::TypeDesc::UINT8, "png")) {
-    std::remove(temp.c_str());
-    throw std::runtime_error("cannot write " + path + ": " + buf_.geterror());
-  }
-  AtomicRename(temp, path);
+  // Encoded in memory, then written through AtomicWriteFile, which checks the flush and close:
+  // OIIO's file writer returned success on a full disk and left truncated PNGs (issue 20 item 1).
+  std::vector<unsigned char> bytes;
+  OIIO::Filesystem::IOVecOutput memory(bytes);
+  OIIO::ImageBuf copy = buf_;
+  copy.set_write_ioproxy(&memory);
+  if (!copy.write(path, OIIO::TypeDesc::UINT8, "png"))
+    throw std::runtime_error("cannot encode " + path + ": " + copy.geterror());
+  AtomicWriteFile(path, std::string(bytes.begin(), bytes.end()));
 }
 
 }  // namespace dynref::render

@@ -69,6 +69,8 @@ TEST_CASE("trajectory: every bad input names file and line") {
               "NaN/inf pose");
   ExpectError(WriteText(dir, "inf.txt", "1 0 0 0 0 0 0 1\n2 0 0 -inf 0 0 0 1\n"), 2,
               "NaN/inf pose");
+  // issue 20 item 9: tx = 1e300 gave "rmse inf ... std -nan" with exit 0 in dynref eval.
+  ExpectError(WriteText(dir, "huge.txt", "1 0 0 0 0 0 0 1\n2 1e300 0 0 0 0 0 1\n"), 2, "beyond 1e9 m");
   ExpectError(WriteText(dir, "quat.txt", "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1.01\n"), 2,
               "quaternion not normalised");
   ExpectError(WriteText(dir, "zeroq.txt", "1 0 0 0 0 0 0 0\n"), 1, "quaternion not normalised");
