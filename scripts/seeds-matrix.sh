@@ -23,7 +23,8 @@ for p in $PRESETS; do for s in $SEEDS; do
       --detections yolo-like --out "$seq" > /dev/null
   for m in $METHODS; do
     run="$WORK/runs/${p}_s${s}_f${FRAMES}/$m"
-    [ -f "$run/run.json" ] || echo "$DYNREF run --method $m --config configs/$m.yaml --sequence $seq --out $run --detections $seq/detections/yolo-like --trace off --no-progress" >> "$jobs_file"
+    method=$(sed -n 's/^method: *//p' "configs/$m.yaml")
+    [ -f "$run/run.json" ] || echo "$DYNREF run --method $method --config configs/$m.yaml --sequence $seq --out $run --detections $seq/detections/yolo-like --trace off --no-progress" >> "$jobs_file"
   done
 done; done
 n=$(wc -l < "$jobs_file")

@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "core/error.h"
+#include "io/coco_classes.h"
 
 namespace dynref {
 namespace {
@@ -41,6 +42,18 @@ const Param& ParamMap::Get(const std::string& key) const {
   auto it = params.find(key);
   if (it == params.end()) throw InputError(file, line, "stage " + stage_name + ": missing parameter " + key);
   return it->second;
+}
+
+std::vector<int> ParamMap::GetCocoClassIds(const std::string& key) const {
+  const Param& p = Get(key);
+  std::vector<int> ids;
+  for (const std::string& name : p.list) {
+    const int id = CocoClassId(name);
+    if (id < 0) throw InputError(p.file, p.line, "unknown COCO class '" + name + "'");
+    ids.push_back(id);
+  }
+  if (ids.empty()) throw InputError(p.file, p.line, key + " must list at least one class");
+  return ids;
 }
 
 void ParamMap::RequireKnownKeys(const std::set<std::string>& known) const {

@@ -40,6 +40,9 @@ class ParamMap {
   bool GetBool(const std::string& key) const { return Get(key).AsBool(); }
   std::string GetString(const std::string& key) const { return Get(key).value; }
   double GetDouble(const std::string& key, double fallback) const { return Has(key) ? GetDouble(key) : fallback; }
+  // COCO ids of a list of class names (io/coco_classes.h); InputError (file:line) for an unknown
+  // name or an empty list.
+  std::vector<int> GetCocoClassIds(const std::string& key) const;
   // InputError naming the config file/line of the first key not in `known`.
   void RequireKnownKeys(const std::set<std::string>& known) const;
 };

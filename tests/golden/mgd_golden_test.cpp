@@ -1,51 +1,7 @@
-// Golden 30-frame mgd trace (issue 14): synthesise walking_xyz (30 frames, seed 1, yolo-like
-// detections), run MGD-SLAM (golden/mgd_30f/mgd_golden.yaml = configs/mgd.yaml with 300
-// features) at trace level full and diff the trace against
-// golden/mgd_30f/trace.dtr with `dynref diff` (exact: no tolerance).
-// Regenerate (and say in the commit why the new numbers are right):
-//   DYNREF_UPDATE_GOLDEN=1 ctest -R 'golden_mgd:'
-#include <catch2/catch.hpp>
-#include <cstdlib>
-#include <filesystem>
-
-#include "pipeline/pipeline.h"
-#include "synth/synth.h"
-#include "test_support.h"
-
-namespace fs = std::filesystem;
+// Golden 30-frame mgd trace (issue 14): walking_xyz, MGD-SLAM with golden/mgd_30f/mgd_golden.yaml
+// (configs/mgd.yaml with 300 features). See method_golden.h.
+#include "method_golden.h"
 
 TEST_CASE("mgd golden: 30-frame walking_xyz trace is unchanged") {
-  const std::string dir = dynref::test::ScratchDir("mgd_golden");
-  dynref::synth::SynthOptions so;
-  so.preset = "walking_xyz";
-  so.frames = 30;
-  so.seed = 1;
-  so.detections = "yolo-like";
-  so.out = dir + "/seq";
-  dynref::synth::GenerateSequence(so);
-
-  dynref::RunOptions ro;
-  ro.sequence = so.out;
-  ro.out_dir = dir + "/run";
-  ro.method = "mgd";
-  ro.config_path = dynref::test::SourcePath("golden/mgd_30f/mgd_golden.yaml");
-  ro.trace_level = "full";
-  ro.detections_dir = so.out + "/detections/yolo-like";
-  ro.progress = false;
-  const dynref::RunResult r = dynref::RunSequence(ro);
-  REQUIRE(r.exit_code == 0);
-  CHECK(r.frames == 30);
-
-  const std::string golden = dynref::test::SourcePath("golden/mgd_30f/trace.dtr");
-  const char* update = std::getenv("DYNREF_UPDATE_GOLDEN");
-  if (update != nullptr && std::string(update) == "1") {
-    fs::create_directories(fs::path(golden).parent_path());
-    fs::copy_file(ro.out_dir + "/trace.dtr", golden, fs::copy_options::overwrite_existing);
-    // Update mode never passes: the new golden must be committed and compared by a normal run.
-    FAIL("golden updated: " << golden << "; rerun without DYNREF_UPDATE_GOLDEN to compare");
-  }
-  REQUIRE(fs::exists(golden));
-  const dynref::test::CommandResult d = dynref::test::RunDynref("diff " + golden + " " + ro.out_dir);
-  INFO(d.output);
-  CHECK(d.exit_code == 0);
+  dynref::test::CheckMethodGolden("mgd", "golden/mgd_30f", "mgd_golden.yaml");
 }

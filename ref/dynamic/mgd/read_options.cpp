@@ -15,13 +15,7 @@ MgdOptions ReadOptions(const ParamMap& p) {
                       "w_pro", "w_mf", "a", "smoothing", "diffusion", "radius_m", "tau_dyn", "weight"});
   MgdOptions o;
   o.min_confidence = p.GetDouble("min_confidence");
-  const Param& classes = p.Get("dynamic_classes");
-  o.dynamic_class_ids.clear();
-  for (const std::string& name : classes.list) {
-    const int id = CocoClassId(name);
-    if (id < 0) throw InputError(classes.file, classes.line, "unknown COCO class '" + name + "'");
-    o.dynamic_class_ids.push_back(id);
-  }
+  o.dynamic_class_ids = p.GetCocoClassIds("dynamic_classes");
   o.initial_pose_out_of_box = p.GetBool("initial_pose_out_of_box");
   o.p_init_box = p.GetDouble("p_init_box");
   o.p_init_free = p.GetDouble("p_init_free");

@@ -23,12 +23,7 @@ void MaskOptions::Check() const {
 MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Board> board) : board_(std::move(board)) {
   p.RequireKnownKeys({"prior_dynamic_classes", "min_confidence", "d_max_px", "t_int_m", "interaction",
                       "dilation_kernel_px", "reject_keypoints"});
-  const Param& classes = p.Get("prior_dynamic_classes");
-  for (const std::string& name : classes.list) {
-    const int id = CocoClassId(name);
-    if (id < 0) throw InputError(classes.file, classes.line, "unknown COCO class '" + name + "'");
-    o_.prior_dynamic_class_ids.insert(id);
-  }
+  for (int id : p.GetCocoClassIds("prior_dynamic_classes")) o_.prior_dynamic_class_ids.insert(id);
   o_.min_confidence = p.GetDouble("min_confidence");
   o_.d_max_px = static_cast<int>(p.GetInt("d_max_px"));
   o_.t_int_m = p.GetDouble("t_int_m");

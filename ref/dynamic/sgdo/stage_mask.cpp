@@ -18,15 +18,7 @@ const FrameDetections& RequireDetections(const Frame& frame, const std::string& 
 
 MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Blackboard> board) : board_(std::move(board)) {
   p.RequireKnownKeys({"dynamic_classes", "min_confidence", "dilation_kernel_px", "reject_in_mask"});
-  const Param& classes = p.Get("dynamic_classes");
-  options_.dynamic_class_ids.clear();
-  for (const std::string& name : classes.list) {
-    const int id = CocoClassId(name);
-    if (id < 0) throw InputError(classes.file, classes.line, "unknown COCO class '" + name + "'");
-    options_.dynamic_class_ids.push_back(id);
-  }
-  if (options_.dynamic_class_ids.empty())
-    throw InputError(classes.file, classes.line, "dynamic_classes must list at least one class");
+  options_.dynamic_class_ids = p.GetCocoClassIds("dynamic_classes");
   options_.min_confidence = p.GetDouble("min_confidence");
   options_.dilation_kernel_px = static_cast<int>(p.GetInt("dilation_kernel_px"));
   reject_in_mask_ = p.GetBool("reject_in_mask");
