@@ -90,8 +90,8 @@ FrameDetections ReadLabelPng(const LabelTable& table, const std::string& png_pat
       d.confidence = table.confidence;
       d.x_min = box.x;
       d.y_min = box.y;
-      d.x_max = box.x + box.width;
-      d.y_max = box.y + box.height;
+      d.x_max = box.x + box.width - 1;  // inclusive extreme pixels, as MASK_FORMAT.md says (issue 20 item 11)
+      d.y_max = box.y + box.height - 1;
       d.has_mask = true;
       ids.setTo(d.id, mask);
       frame.instances.push_back(d);

@@ -1,5 +1,7 @@
 #include "io/mask_format.h"
 
+#include "io/coco_classes.h"
+
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <algorithm>
@@ -144,6 +146,10 @@ FrameDetections DetectionsReader::Read(const std::string& stamp_text, cv::Size i
       throw InputError(tpath, int(i + 1),
                        "expected 'id class_id class_name confidence x_min y_min x_max y_max has_mask'");
     if (d.id < 1 || d.id > 65535) throw InputError(tpath, int(i + 1), "instance id must be in 1..65535");
+    if (d.class_id < -1 || d.class_id >= kCocoClassCount)  // issue 20 item 11: 999 was accepted
+      throw InputError(tpath, int(i + 1), "class_id must be -1 (unknown) or a COCO id 0.." +
+                                              std::to_string(kCocoClassCount - 1) + ", got " +
+                                              std::to_string(d.class_id));
     if (!(d.confidence >= 0 && d.confidence <= 1))
       throw InputError(tpath, int(i + 1), "confidence must be in [0, 1]");
     if (!(d.x_max >= d.x_min && d.y_max >= d.y_min))

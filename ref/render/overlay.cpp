@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <system_error>
 
 #include "core/atomic_file.h"
@@ -217,6 +218,13 @@ std::vector<std::string> RenderRunOverlays(const std::string& run_dir, int64_t f
       throw InputError(out_dir, "exists and is not a directory");
   }
   const std::vector<OverlayFrame> frames = CollectOverlayFrames(reader, first, last);
+  // A closed range must lie inside the traced frames (README: out-of-range --frames is an error;
+  // 38-45 on a 40-frame run was clipped silently, issue 20 item 11).
+  if (last != std::numeric_limits<int64_t>::max() && (frames.empty() || frames.back().frame < last || frames.front().frame > first))
+    throw InputError("--frames", std::to_string(first) + "-" + std::to_string(last) +
+                                     " is not inside the run's traced frames" +
+                                     (frames.empty() ? std::string() : " (this range has " + std::to_string(frames.front().frame) + "-" +
+                                                                           std::to_string(frames.back().frame) + ")"));
   if (frames.empty())
     throw InputError(info.trace_path, "no traced frame in " + std::to_string(first) + "-" +
                                           std::to_string(last));

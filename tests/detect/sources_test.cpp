@@ -124,8 +124,8 @@ TEST_CASE("sources: DynaSLAM-style label PNGs with a YAML table") {
   CHECK(f.instances[0].class_id == 0);
   CHECK(f.instances[0].x_min == 5);
   CHECK(f.instances[0].y_min == 6);
-  CHECK(f.instances[0].x_max == 15);
-  CHECK(f.instances[0].y_max == 18);
+  CHECK(f.instances[0].x_max == 14);  // inclusive extreme pixels (MASK_FORMAT.md; issue 20 item 11)
+  CHECK(f.instances[0].y_max == 17);
   CHECK(f.instances[0].confidence == 0.9);
   CHECK(f.instances[1].class_name == "person");
   CHECK(f.instances[1].x_min == 40);
@@ -184,4 +184,34 @@ TEST_CASE("sources: HOG people detector finds the person on person.jpg and none 
   CHECK(d.y_max > 372);
   CHECK(d.x_max - d.x_min < 2.5 * (274 - 191));
   CHECK(hog->Detect(cv::imread(SourcePath("tests/data/darknet/horses.jpg")), "horses").instances.empty());
+}
+
+TEST_CASE("mask format: a class_id outside COCO is rejected with file and line (issue 20 item 11)") {
+  const std::string dir = test::ScratchDir("mask_class_id");
+  {
+    DetectionsWriter w(dir, "test", "");
+    FrameDetections f;
+    f.stamp_text = "1.0";
+    DetectedInstance d;
+    d.id = 1, d.class_id = 0, d.class_name = "person", d.confidence = 0.9;
+    d.x_min = 1, d.y_min = 1, d.x_max = 5, d.y_max = 5;
+    f.instances.push_back(d);
+    w.Write(f);
+    w.Finish();
+  }
+  // Edit the record as a hand-made file would: class 999.
+  const std::string txt = dir + "/1.0.txt";
+  std::string s = test::ReadFileBytes(txt);
+  const size_t at = s.find("1 0 person");
+  REQUIRE(at != std::string::npos);
+  s.replace(at, 10, "1 999 person");
+  WriteText(txt, s);
+  DetectionsReader r(dir);
+  try {
+    r.Read("1.0", cv::Size(10, 10));
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("class_id must be -1 (unknown) or a COCO id 0..79, got 999") != std::string::npos);
+    CHECK(e.line() > 0);
+  }
 }

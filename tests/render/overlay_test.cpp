@@ -141,11 +141,15 @@ TEST_CASE("dynref overlay leaves no partial output when a frame fails or the ran
   REQUIRE(bytes.size() > 200);
   std::ofstream(rgb1, std::ios::binary | std::ios::trunc) << bytes.substr(0, 200);
   const std::string out = dir + "/out/ov";
-  const auto r = test::RunDynref("overlay " + test::Quote(run.run) + " --frames 0-2 --out " + test::Quote(out) +
+  const auto r = test::RunDynref("overlay " + test::Quote(run.run) + " --frames 0-1 --out " + test::Quote(out) +
                                  " --montage " + test::Quote(dir + "/m.png"));
   INFO(r.output);
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("1.033333.png") != std::string::npos);
+  // A range reaching past the traced frames is an error, not silently clipped (issue 20 item 11).
+  const auto past = test::RunDynref("overlay " + test::Quote(run.run) + " --frames 1-5 --out " + test::Quote(out));
+  CHECK(past.exit_code == 2);
+  CHECK(past.output.find("is not inside the run's traced frames") != std::string::npos);
   CHECK(!test::FileExists(out + "/overlay_000000.png"));
   CHECK(!test::FileExists(out));
   CHECK(!test::FileExists(dir + "/out"));  // the parent it created for its temp folder is gone too
