@@ -155,6 +155,12 @@ int RunDetect(DetectArgs a) {
     const FrameDetections f = source->Detect(bgr, fe.rgb_stamp_text);
     cpu_ms.push_back(1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC);
     wall_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    // Sources that never decode the frame (files:, labels:) are checked against the camera size
+    // here (issue 20 item 7: 320x240 masks of a 640x480 sequence were accepted).
+    if (!f.instance_ids.empty() && (f.instance_ids.cols != seq.camera.width || f.instance_ids.rows != seq.camera.height))
+      throw InputError(a.source, "frame " + fe.rgb_stamp_text + ": mask is " + std::to_string(f.instance_ids.cols) + "x" +
+                                     std::to_string(f.instance_ids.rows) + " but the sequence's camera is " +
+                                     std::to_string(seq.camera.width) + "x" + std::to_string(seq.camera.height));
     writer.Write(f);
     for (const auto& d : f.instances) ++totals[d.class_name];
     std::cout << "frame " << fe.index << " " << fe.rgb_stamp_text << ": " << Summary(f) << "\n";

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <opencv2/imgcodecs.hpp>
 
 #include "io/mask_format.h"
 #include "test_support.h"
@@ -113,4 +114,17 @@ TEST_CASE("cli: detect rejects out-of-range thresholds and an empty --frames bef
   INFO(zero.output);
   CHECK(zero.exit_code == 0);
   CHECK(RunDynref("detect --source nanodet --conf 1 --no-masks " + img).exit_code == 0);
+}
+
+TEST_CASE("cli: detect --source labels: rejects masks of another size than the sequence's camera (issue 20 item 7)") {
+  const std::string dir = ScratchDir("cli_detect_label_size");
+  std::filesystem::create_directories(dir + "/labels");
+  cv::Mat lab = cv::Mat::zeros(240, 320, CV_8U);  // the sequence is 640x480
+  lab(cv::Rect(10, 10, 20, 30)).setTo(3);
+  REQUIRE(cv::imwrite(dir + "/labels/1305031453.359684.png", lab));
+  dynref::test::WriteText(dir + "/labels/labels.yaml", "png_kind: semantic\nconfidence: 0.9\nlabels:\n  3: person\n");
+  const auto r = RunDynref("detect --source labels:" + dir + "/labels " + kSeq + " --out '" + dir + "/out' --frames 0-0");
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("mask is 320x240 but the sequence's camera is 640x480") != std::string::npos);
 }
