@@ -8,6 +8,7 @@
 #include "features/orb_extractor.h"
 #include "io/sequence.h"
 #include "mapping/local_mapper.h"
+#include "tracking/real_frames.h"
 #include "tracking/tracker.h"
 #include "test_support.h"
 
@@ -25,15 +26,8 @@ struct Run {
   int frames = 0;
   // Tracks image `image` of the sequence as the next frame and makes it a keyframe.
   mapping::LocalMapperStats KeyFrameOf(int image) {
-    Frame f;
-    f.index = frames++;
+    Frame f = test::LoadRealFrame(seq, image, ex, frames++);
     f.stamp = seq.frames[0].rgb_stamp + 0.03 * f.index;
-    f.rgb = LoadRgb(seq, seq.frames[image]);
-    f.depth_m = LoadDepthMeters(seq, seq.frames[image]);
-    cv::cvtColor(f.rgb, f.grey, cv::COLOR_BGR2GRAY);
-    ex.Extract(f.grey, &f.keys, &f.descriptors);
-    f.pyramid = ScalePyramid::Make(8, 1.2);
-    f.FinishFeatures(seq.camera);
     KeyFrame* kf = nullptr;
     if (f.index == 0) {
       kf = tracker.TryInitialise(f);
@@ -73,15 +67,7 @@ TEST_CASE("local mapper: triangulation, local BA and consistent map points on re
   mapping::LocalMapper mapper{map, seq.camera, mapping::LocalMapperOptions{}, trace};
   int new_points = 0, culled_kfs = 0, triangulating_kfs = 0;
   for (int i = 0; i < 9; ++i) {
-    Frame f;
-    f.index = i;
-    f.stamp = seq.frames[i].rgb_stamp;
-    f.rgb = LoadRgb(seq, seq.frames[i]);
-    f.depth_m = LoadDepthMeters(seq, seq.frames[i]);
-    cv::cvtColor(f.rgb, f.grey, cv::COLOR_BGR2GRAY);
-    ex.Extract(f.grey, &f.keys, &f.descriptors);
-    f.pyramid = ScalePyramid::Make(8, 1.2);
-    f.FinishFeatures(seq.camera);
+    Frame f = test::LoadRealFrame(seq, i, ex);
     KeyFrame* kf = nullptr;
     bool ok = true;
     if (i == 0) {

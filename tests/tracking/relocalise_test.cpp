@@ -9,6 +9,7 @@
 #include "io/sequence.h"
 #include "io/trajectory.h"
 #include "mapping/local_mapper.h"
+#include "tracking/real_frames.h"
 #include "tracking/tracker.h"
 #include "test_support.h"
 
@@ -16,18 +17,7 @@ using namespace dynref;
 
 namespace {
 
-Frame Load(const Sequence& seq, int i, features::OrbExtractor& ex) {
-  Frame f;
-  f.index = i;
-  f.stamp = seq.frames[i].rgb_stamp;
-  f.rgb = LoadRgb(seq, seq.frames[i]);
-  f.depth_m = LoadDepthMeters(seq, seq.frames[i]);
-  cv::cvtColor(f.rgb, f.grey, cv::COLOR_BGR2GRAY);
-  ex.Extract(f.grey, &f.keys, &f.descriptors);
-  f.pyramid = ScalePyramid::Make(8, 1.2);
-  f.FinishFeatures(seq.camera);
-  return f;
-}
+Frame Load(const Sequence& seq, int i, features::OrbExtractor& ex) { return test::LoadRealFrame(seq, i, ex); }
 
 }  // namespace
 

@@ -6,6 +6,7 @@
 #include "features/orb_extractor.h"
 #include "io/sequence.h"
 #include "mapping/local_mapper.h"
+#include "tracking/real_frames.h"
 #include "tracking/tracker.h"
 #include "test_support.h"
 
@@ -21,18 +22,7 @@ struct Fixture {
   tracking::Tracker tracker{seq.camera, map, tracking::TrackerOptions{}, trace};
   mapping::LocalMapper mapper{map, seq.camera, mapping::LocalMapperOptions{}, trace};
 
-  Frame Load(int i) {
-    Frame f;
-    f.index = i;
-    f.stamp = seq.frames[i].rgb_stamp;
-    f.rgb = LoadRgb(seq, seq.frames[i]);
-    f.depth_m = LoadDepthMeters(seq, seq.frames[i]);
-    cv::cvtColor(f.rgb, f.grey, cv::COLOR_BGR2GRAY);
-    extractor.Extract(f.grey, &f.keys, &f.descriptors);
-    f.pyramid = ScalePyramid::Make(8, 1.2);
-    f.FinishFeatures(seq.camera);
-    return f;
-  }
+  Frame Load(int i) { return test::LoadRealFrame(seq, i, extractor); }
   bool Track(Frame& f) {
     bool ok = tracker.TrackInitial(f);
     if (ok) {
