@@ -134,12 +134,9 @@ Camera ReadOrbSlamCameraYaml(const std::string& path) {
     return v;
   };
   // Image size: checked as a number before the int conversion (a huge value would not fit).
-  // At least 64 x 48: the ORB extractor keeps a 19 px border (EDGE_THRESHOLD) at the finest level
-  // and a 30 px cell grid; a 1 x 1 camera ended in a raw OpenCV assertion (issue 20 item 10).
-  auto size = [&](const std::string& key, double fallback, int min) {
+  auto size = [&](const std::string& key, double fallback) {
     const double v = number(key, false, fallback);
-    if (!(v >= min && v <= 100000) || v != std::floor(v))
-      bad(key, "must be an integer in " + std::to_string(min) + "..100000");
+    if (!(v >= 1 && v <= 100000) || v != std::floor(v)) bad(key, "must be an integer in 1..100000");
     return static_cast<int>(v);
   };
   Camera c;
@@ -153,8 +150,8 @@ Camera ReadOrbSlamCameraYaml(const std::string& path) {
   c.p1 = number("Camera.p1", true, 0);
   c.p2 = number("Camera.p2", true, 0);
   c.k3 = number("Camera.k3", false, 0);  // ORB-SLAM2 reads k3 only when present
-  c.width = size("Camera.width", 640, 64);
-  c.height = size("Camera.height", 480, 48);
+  c.width = size("Camera.width", 640);
+  c.height = size("Camera.height", 480);
   c.bf = number("Camera.bf", false, 40.0);
   c.th_depth = number("ThDepth", false, 40.0);
   c.depth_factor = number("DepthMapFactor", true, 5000.0);
