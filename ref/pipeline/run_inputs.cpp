@@ -29,6 +29,12 @@ RunInputs OpenRunInputs(const RunOptions& options) {
   SequenceOptions seq_opts;
   seq_opts.camera = options.camera;
   in.sequence = OpenSequence(options.sequence, seq_opts);
+  // ORB extraction keeps a 19 px border (EDGE_THRESHOLD) at the finest level and a 30 px cell
+  // grid: a smaller image ended in a raw OpenCV assertion (issue 20 item 10, a 1 x 1 camera).
+  const Camera& cam = in.sequence.camera;
+  if (cam.width < 64 || cam.height < 48)
+    throw InputError(cam.name, "camera image " + std::to_string(cam.width) + "x" + std::to_string(cam.height) +
+                                   " is too small for ORB extraction (dynref run needs at least 64x48)");
   return in;
 }
 

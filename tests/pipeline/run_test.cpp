@@ -9,6 +9,7 @@
 
 #include "core/se3.h"
 #include "eval/trajectory_eval.h"
+#include "io/camera.h"
 #include "io/mask_format.h"
 #include "io/trajectory.h"
 #include "pipeline/pipeline.h"
@@ -311,4 +312,31 @@ TEST_CASE("run: a rerun into the same folder removes the earlier run's trace and
   o.trace_level = "frames";
   o.overlays = true;
   CHECK_THROWS_WITH(RunSequence(o), Catch::Matchers::Contains("--overlays needs --trace full"));
+}
+
+TEST_CASE("run: a camera too small for ORB extraction is named before any work (issue 20 item 10)") {
+  // A consistent 1 x 1 sequence (the image-size check against the camera passes): before, the
+  // ORB extractor ended in a raw OpenCV assertion.
+  const std::string dir = test::ScratchDir("run_tiny_camera");
+  const std::string seq = dir + "/seq";
+  std::filesystem::create_directories(seq + "/rgb");
+  std::filesystem::create_directories(seq + "/depth");
+  std::string rgb_txt = "# color images\n", depth_txt = "# depth images\n";
+  for (int i = 0; i < 3; ++i) {
+    const std::string t = std::to_string(100 + i) + ".000000";
+    REQUIRE(cv::imwrite(seq + "/rgb/" + t + ".png", cv::Mat(1, 1, CV_8UC3, cv::Scalar(50, 60, 70))));
+    REQUIRE(cv::imwrite(seq + "/depth/" + t + ".png", cv::Mat(1, 1, CV_16U, cv::Scalar(5000))));
+    rgb_txt += t + " rgb/" + t + ".png\n";
+    depth_txt += t + " depth/" + t + ".png\n";
+  }
+  test::WriteText(seq + "/rgb.txt", rgb_txt);
+  test::WriteText(seq + "/depth.txt", depth_txt);
+  Camera tiny = CameraPreset("tum_fr3");
+  tiny.width = 1, tiny.height = 1, tiny.cx = 0, tiny.cy = 0;  // the principal point must lie inside
+  WriteOrbSlamCameraYaml(tiny, seq + "/camera.yaml");
+  const auto r = test::RunDynref("run --sequence " + test::Quote(seq) + " --out " + test::Quote(dir + "/run"));
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("is too small for ORB extraction") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(dir + "/run"));
 }
