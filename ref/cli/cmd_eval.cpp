@@ -65,7 +65,15 @@ int RunEval(const EvalArgs& a) {
   const TumTrajectory est_ate = evo ? ReadTumTrajectory(a.est, evo_read) : est;
 
   const AteResult ate = ComputeAte(gt_ate, est_ate, ate_opt);
-  const RpeResult rpe = ComputeRpe(gt, est, rpe_opt);
+  RpeResult rpe;
+  try {
+    rpe = ComputeRpe(gt, est, rpe_opt);
+  } catch (const InputError&) {
+    // ATE is still worth having (issue 20 item 10): print it, then report the RPE problem (exit 2).
+    std::cout << "dynref eval\nATE (absolute trajectory error, translation), " << ate.matches.size() << " pairs\n"
+              << Row("ate", ate.stats, "m", true) << "\n";
+    throw;
+  }
   const bool interp = rpe_opt.mode == RpeMode::kInterp;
 
   const std::string assoc_desc =

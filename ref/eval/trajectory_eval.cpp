@@ -172,10 +172,20 @@ RpeResult ComputeRpe(const TumTrajectory& gt, const TumTrajectory& est,
     trans.push_back(p.trans_m);
     rot_deg.push_back(p.rot_rad * 180.0 / M_PI);
   }
+  // Say what is missing (issue 20 item 10: "do the stamps overlap?" was printed for a 9-frame
+  // clip whose stamps do overlap but whose span is shorter than delta).
+  const char* unit = options.unit == DeltaUnit::kSeconds ? " s" : " frames";
+  if (r.candidate_pairs < 2)
+    throw InputError(est.path, "RPE: only " + std::to_string(r.candidate_pairs) + " pair(s) of estimate poses are delta = " +
+                                   FormatDouble17(options.delta) + unit + " apart (the estimate has " +
+                                   std::to_string(stamps_est.size()) + " poses over " +
+                                   FormatFixed(stamps_est.back() - stamps_est.front(), 3) +
+                                   " s); need 2: give a smaller --delta or --delta-unit f");
   if (r.pairs.size() < 2)
-    throw InputError(est.path, "only " + std::to_string(r.pairs.size()) +
-                                   " RPE pair(s) with ground truth " + gt.path +
-                                   " (need 2; do the stamps overlap?)");
+    throw InputError(est.path, "RPE: " + std::to_string(r.pairs.size()) + " of " + std::to_string(r.candidate_pairs) +
+                                   " pose pairs have ground truth " + gt.path + " within 2 x its median interval (" +
+                                   FormatFixed(r.gt_max_time_difference_s, 6) +
+                                   " s) of both stamps; need 2: do the stamps overlap (see --offset)?");
   r.trans_m = ComputeErrorStats(trans);
   r.rot_deg = ComputeErrorStats(rot_deg);
   return r;

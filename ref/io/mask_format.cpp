@@ -5,6 +5,8 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <algorithm>
+#include <cstdlib>
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <sys/stat.h>
@@ -114,6 +116,12 @@ DetectionsReader::DetectionsReader(const std::string& dir) : dir_(dir) {
     std::string stamp, stem, extra;
     if (!(s >> stamp >> stem) || (s >> extra))
       throw InputError(ipath, int(i + 1), "expected '<rgb_stamp> <stem>'");
+    // A stamp must be a number (Stamps() sorts by it; a bad one used to end in a bare "stod"
+    // in synth-montage, issue 20 item 10).
+    char* end = nullptr;
+    const double v = std::strtod(stamp.c_str(), &end);
+    if (end == stamp.c_str() || *end != '\0' || !std::isfinite(v))
+      throw InputError(ipath, int(i + 1), "stamp '" + stamp + "' is not a number");
     index_[stamp] = stem;
   }
 }

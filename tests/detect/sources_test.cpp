@@ -215,3 +215,26 @@ TEST_CASE("mask format: a class_id outside COCO is rejected with file and line (
     CHECK(e.line() > 0);
   }
 }
+
+TEST_CASE("mask format: a stamp in index.txt that is not a number is named (issue 20 item 10)") {
+  const std::string dir = test::ScratchDir("mask_bad_stamp");
+  {
+    DetectionsWriter w(dir, "test", "");
+    FrameDetections f;
+    f.stamp_text = "1.0";
+    w.Write(f);
+    w.Finish();
+  }
+  std::string index = test::ReadFileBytes(dir + "/index.txt");
+  const size_t at = index.find("1.0 ");
+  REQUIRE(at != std::string::npos);
+  index.replace(at, 3, "1.o");
+  WriteText(dir + "/index.txt", index);
+  try {
+    DetectionsReader r(dir);
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("stamp '1.o' is not a number") != std::string::npos);
+    CHECK(e.line() > 0);
+  }
+}

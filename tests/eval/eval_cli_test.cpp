@@ -112,3 +112,14 @@ TEST_CASE("eval cli: --align sim3 on a constant estimate exits 2 with a clear me
   INFO(se3.output);
   CHECK(se3.exit_code == 0);
 }
+
+TEST_CASE("eval cli: a clip shorter than delta says so and still prints ATE (issue 20 item 10)") {
+  const std::string d = dynref::test::ScratchDir("eval_cli_short_clip");
+  const std::string gt = WriteText(d + "/gt.txt", kTraj);  // 5 poses over 0.125 s: stamps overlap
+  const auto r = RunDynref("eval --gt " + Quote(gt) + " --est " + Quote(gt));  // default delta 1 s
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find("ate [m]  rmse 0.000000") != std::string::npos);  // ATE printed first
+  CHECK(r.output.find("are delta = 1 s apart (the estimate has 5 poses over 0.125 s)") != std::string::npos);
+  CHECK(r.output.find("do the stamps overlap") == std::string::npos);  // the wrong hint is gone
+}
