@@ -5,6 +5,7 @@
 // Sources: ref/detect/README.md.
 #include <opencv2/imgcodecs.hpp>
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <ctime>
 #include <iostream>
@@ -98,6 +99,14 @@ std::string InfoText(const DetectArgs& a, const DetectionSource& src, size_t fir
   return s.str();
 }
 
+// --out may be absent, empty, or an earlier dynref-detections folder (it has format.txt).
+bool IsReplaceableDetections(const std::string& dir) {
+  std::error_code ec;
+  return IsAbsentOrEmptyDirectory(dir) ||
+         (std::filesystem::is_directory(dir, ec) && std::filesystem::exists(std::filesystem::path(dir) / "format.txt", ec));
+}
+const char* kNotDetections = "exists and is not a dynref-detections folder (no format.txt); refusing to replace it";
+
 int RunDetect(DetectArgs a) {
   a.options.masks = !a.no_masks;
   a.options.sequence_root = a.sequence;
@@ -143,7 +152,15 @@ int RunDetect(DetectArgs a) {
   if (!a.overlays.empty()) {
     ::mkdir(a.overlays.c_str(), 0755);
   }
-  DetectionsWriter writer(a.out, source->name(), source->model_sha256());
+  // The output folder is a unit (issue 20 item 6): written in a staging folder and renamed onto
+  // --out when every frame is written, replacing an earlier detections folder whole (a failed
+  // rerun used to leave the old index.txt beside the new format.txt).
+  const std::string target = StagingDirectory::NormalisedTarget(a.out);
+  if (!IsReplaceableDetections(target))
+    throw InputError("--out", a.out + " " + kNotDetections);
+  StagingDirectory staging(target);
+  const std::string out_dir = staging.dir();
+  DetectionsWriter writer(out_dir, source->name(), source->model_sha256());
   std::map<std::string, int> totals;
   std::vector<double> wall_ms, cpu_ms;  // per frame
   for (size_t i = first; i <= last; ++i) {
@@ -167,7 +184,9 @@ int RunDetect(DetectArgs a) {
     if (!a.overlays.empty()) WritePng(a.overlays + "/" + fe.rgb_stamp_text + ".png", detect::DrawDetections(bgr, f));
   }
   writer.Finish();
-  AtomicWriteFile(a.out + "/detect_info.txt", InfoText(a, *source, first, last));
+  AtomicWriteFile(out_dir + "/detect_info.txt", InfoText(a, *source, first, last));
+  PublishDirectory(out_dir, target, a.out, IsReplaceableDetections, kNotDetections);
+  staging.Commit();
   const size_t n = last - first + 1;
   std::cout << "detect: " << n << " frames, source " << source->name() << ", model_sha256 " << source->model_sha256()
             << " -> " << a.out << "\n  totals:";

@@ -128,3 +128,25 @@ TEST_CASE("cli: detect --source labels: rejects masks of another size than the s
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("mask is 320x240 but the sequence's camera is 640x480") != std::string::npos);
 }
+
+TEST_CASE("cli: a failed detect rerun leaves the earlier folder whole (issue 20 item 6)") {
+  const std::string dir = ScratchDir("cli_detect_rerun");
+  const std::string out = dir + "/det";
+  REQUIRE(RunDynref("detect --source hog " + kSeq + " --out '" + out + "' --frames 0-1").exit_code == 0);
+  const std::string format_before = dynref::test::ReadFileBytes(out + "/format.txt");
+  const std::string index_before = dynref::test::ReadFileBytes(out + "/index.txt");
+  // A rerun with a source that fails on its first frame (a label PNG of the wrong size).
+  std::filesystem::create_directories(dir + "/labels");
+  REQUIRE(cv::imwrite(dir + "/labels/1305031453.359684.png", cv::Mat::zeros(240, 320, CV_8U)));
+  dynref::test::WriteText(dir + "/labels/labels.yaml", "png_kind: semantic\nconfidence: 0.9\nlabels:\n  3: person\n");
+  const auto r = RunDynref("detect --source labels:" + dir + "/labels " + kSeq + " --out '" + out + "' --frames 0-1");
+  CHECK(r.exit_code == 2);
+  CHECK(dynref::test::ReadFileBytes(out + "/format.txt") == format_before);  // still the hog folder
+  CHECK(dynref::test::ReadFileBytes(out + "/index.txt") == index_before);
+  // A folder that is not a detections folder is never replaced.
+  std::filesystem::create_directories(dir + "/mine");
+  dynref::test::WriteText(dir + "/mine/notes.txt", "mine\n");
+  const auto foreign = RunDynref("detect --source hog " + kSeq + " --out '" + dir + "/mine' --frames 0-0");
+  CHECK(foreign.exit_code == 2);
+  CHECK(foreign.output.find("is not a dynref-detections folder") != std::string::npos);
+}
