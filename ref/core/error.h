@@ -5,6 +5,11 @@
 
 namespace dynref {
 
+// Throws InputError(path, 1, ...) when `first_line` starts with a UTF-8 byte-order mark
+// (EF BB BF): editors on Windows add it, and every text reader here would otherwise report a
+// confusing error about the first field (issue 20 item 10).
+void RejectUtf8Bom(const std::string& path, const std::string& first_line);
+
 // Process exit codes (contract, see README): 0 ok, 1 a check/comparison failed, 2 bad input/usage.
 enum ExitCode : int { kExitOk = 0, kExitCheckFailed = 1, kExitBadInput = 2 };
 

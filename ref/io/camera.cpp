@@ -60,6 +60,7 @@ std::map<std::string, int> TopLevelKeyLines(const std::string& path) {
   std::ifstream in(path);
   std::string text;
   for (int n = 1; std::getline(in, text); ++n) {
+    if (n == 1) RejectUtf8Bom(path, text);
     if (!text.empty() && text.back() == '\r') text.pop_back();
     if (text.empty() || std::string(" \t#%-.{[").find(text[0]) != std::string::npos) continue;
     const size_t colon = text.find(':');

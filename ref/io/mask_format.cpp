@@ -26,6 +26,7 @@ std::vector<std::string> ReadLines(const std::string& path) {
   std::vector<std::string> lines;
   std::string line;
   while (std::getline(in, line)) {
+    if (lines.empty()) RejectUtf8Bom(path, line);
     if (!line.empty() && line.back() == '\r') line.pop_back();
     lines.push_back(line);
   }

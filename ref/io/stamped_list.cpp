@@ -52,6 +52,7 @@ std::vector<StampedLine> ReadStampedList(const std::string& path, int min_fields
   int line_no = 0;
   while (std::getline(in, text)) {
     ++line_no;
+    if (line_no == 1) RejectUtf8Bom(path, text);
     std::vector<std::string> f = SplitFields(text);
     if (f.empty() || f[0][0] == '#') continue;
     const int n = static_cast<int>(f.size()) - 1;

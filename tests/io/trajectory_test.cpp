@@ -136,3 +136,8 @@ TEST_CASE("trajectory: writer round-trips exactly and leaves no temp file") {
   CHECK(FormatTumPoseLine(p, fixed).substr(FormatTumPoseLine(p, fixed).size() - 11) ==
         "0.500000000");
 }
+
+TEST_CASE("text inputs: a UTF-8 byte-order mark is named (issue 20 item 10)") {
+  const std::string dir = test::ScratchDir("io_bom");
+  ExpectError(WriteText(dir, "bom.txt", "\xEF\xBB\xBF" "1 0 0 0 0 0 0 1\n"), 1, "UTF-8 byte-order mark");
+}
