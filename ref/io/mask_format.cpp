@@ -129,7 +129,9 @@ DetectionsReader::DetectionsReader(const std::string& dir) : dir_(dir) {
 
 std::vector<std::string> DetectionsReader::Stamps() const {
   std::vector<std::pair<double, std::string>> v;
-  for (const auto& kv : index_) v.emplace_back(std::stod(kv.first), kv.first);
+  // strtod, not std::stod: the constructor accepted the stamp with strtod, and std::stod throws
+  // out_of_range on a subnormal such as "1e-320" (found by tests/fuzz).
+  for (const auto& kv : index_) v.emplace_back(std::strtod(kv.first.c_str(), nullptr), kv.first);
   std::sort(v.begin(), v.end());
   std::vector<std::string> out;
   for (auto& p : v) out.push_back(p.second);

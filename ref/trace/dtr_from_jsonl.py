@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Independent writer of dynref trace schema 1 (ref/trace/README.md), in Python.
+"""Independent writer of dynref trace schema 2 (ref/trace/README.md), in Python.
 
 Converts a canonical JSONL dump (`dynref trace dump RUN --format jsonl`) -- or JSONL written by
 any other implementation in that form -- into a binary trace.dtr that `dynref diff` reads.
@@ -13,6 +13,26 @@ import argparse
 import json
 import struct
 
+def crc32c(data, crc=0):
+    """CRC-32C (Castagnoli, reflected 0x82F63B78), bytewise; crc32c(b"123456789") == 0xE3069283."""
+    c = crc ^ 0xFFFFFFFF
+    for b in data:
+        c = _CRC_TABLE[(c ^ b) & 0xFF] ^ (c >> 8)
+    return c ^ 0xFFFFFFFF
+
+
+def _crc_table():
+    table = []
+    for b in range(256):
+        c = b
+        for _ in range(8):
+            c = (c >> 1) ^ 0x82F63B78 if c & 1 else c >> 1
+        table.append(c)
+    return table
+
+
+_CRC_TABLE = _crc_table()
+
 KINDS = ["feature", "map_point", "keyframe", "line_sample", "plane", "instance_mask",
          "pixel_region", "frame"]
 
@@ -24,6 +44,7 @@ class Writer:
         self.table = []
 
     def u8(self, v): self.buf.append(v)
+    def u32(self, v): self.buf += struct.pack("<I", v)
     def u64(self, v): self.buf += struct.pack("<Q", v)
     def f64(self, v): self.buf += struct.pack("<d", v)
 
@@ -126,33 +147,35 @@ def main():
                 groups.append((r["frame"], []))
             groups[-1][1].append(r)
     w = Writer()
-    w.buf += b"DYNTRACE" + struct.pack("<I", 1) + bytes([["off", "frames", "full"].index(a.level), 0, 0, 0])
+    w.buf += b"DYNTRACE" + struct.pack("<I", 2) + bytes([["off", "frames", "full"].index(a.level), 0, 0, 0])
     w.varint(len(header))
     for k, v in header.items():
         w.str(k); w.str(v)
+    w.u32(crc32c(w.buf))  # CRC-32C of preamble + header
     index, count = [], 0
     for frame, recs in groups:
         if a.reverse_within_frame:
             head = [r for r in recs if r["type"] == "frame"]
             recs = head + [r for r in reversed(recs) if r["type"] != "frame"]
-        offset = None
+        offset = len(w.buf)  # groups tile the body: a group starts with its first string
         for r in recs:
-            if r["type"] != "frame":  # strings first, so the group offset points at a record
+            if r["type"] != "frame":  # strings a record references come before it
                 for s in pre_strings(r):
                     w.intern(s)
-            if offset is None:
-                offset = len(w.buf)
             write_record(w, r)
         index.append((frame, offset, len(recs)))
         count += len(recs)
     footer = len(w.buf)
+    ends = [o for _, o, _ in index[1:]] + [footer]
     w.u8(0x7F); w.varint(count); w.str(a.end_state)
     w.varint(len(index))
-    for frame, offset, n in index:
+    for (frame, offset, n), end in zip(index, ends):
         w.svarint(frame); w.varint(offset); w.varint(n)
+        w.u32(crc32c(w.buf[offset:end]))  # CRC-32C of the group's bytes
     w.varint(len(w.table))
     for s in w.table:
         w.str(s)
+    w.u32(crc32c(w.buf[footer:]))  # CRC-32C of the footer
     w.u64(footer)
     w.buf += b"DYNTREND"
     with open(a.out, "wb") as fh:

@@ -54,7 +54,7 @@ std::string JsonNumber(double v) {
 
 void WriteHeader(TraceReader& reader, const DumpOptions& options, std::ostream& out) {
   std::vector<std::pair<std::string, std::string>> kv = {
-      {"schema_version", std::to_string(kSchemaVersion)},
+      {"schema_version", std::to_string(reader.schema_version())},
       {"level", LevelName(reader.level())},
       {"end_state", reader.end_state()},
       {"record_count", std::to_string(reader.record_count())},

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "core/crc32c.h"
 #include "core/format.h"
 #include "trace/trace_format.h"
 
@@ -53,6 +54,14 @@ class Cursor {
  public:
   Cursor(const std::string& path, const char* p, size_t n) : path_(path), p_(p), end_(p + n) {}
   bool AtEnd() const { return p_ >= end_; }
+  size_t Pos(const char* begin) const { return static_cast<size_t>(p_ - begin); }
+  uint32_t Fixed32() {
+    Need(4);
+    uint32_t v = 0;
+    for (int i = 0; i < 4; ++i) v |= static_cast<uint32_t>(static_cast<uint8_t>(p_[i])) << (8 * i);
+    p_ += 4;
+    return v;
+  }
   uint8_t U8() {
     Need(1);
     return static_cast<uint8_t>(*p_++);
@@ -112,6 +121,18 @@ std::string ReadAt(FILE* f, const std::string& path, uint64_t offset, uint64_t s
   return buf;
 }
 
+std::string Hex32(uint32_t v) {
+  char b[16];
+  std::snprintf(b, sizeof b, "0x%08x", v);
+  return b;
+}
+
+uint32_t LoadU32(const char* p) {
+  uint32_t v = 0;
+  for (int i = 0; i < 4; ++i) v |= static_cast<uint32_t>(static_cast<uint8_t>(p[i])) << (8 * i);
+  return v;
+}
+
 }  // namespace
 
 TraceReader::TraceReader(const std::string& path) : path_(path) {
@@ -124,12 +145,16 @@ TraceReader::TraceReader(const std::string& path) : path_(path) {
   const std::string pre = ReadAt(file_, path, 0, format::kPreambleSize);
   if (std::memcmp(pre.data(), format::kMagic, 8) != 0)
     throw TraceError(path, TraceProblem::kNotATrace, "missing DYNTRACE magic");
-  uint32_t version = 0;
-  for (int i = 0; i < 4; ++i) version |= static_cast<uint32_t>(static_cast<uint8_t>(pre[8 + i])) << (8 * i);
-  if (version != static_cast<uint32_t>(kSchemaVersion))
+  const uint32_t version = LoadU32(pre.data() + 8);
+  if (version < static_cast<uint32_t>(kOldestReadableSchema) ||
+      version > static_cast<uint32_t>(kSchemaVersion))
     throw TraceError(path, TraceProblem::kSchemaVersion,
                      "trace has schema version " + std::to_string(version) +
-                         ", this dynref reads schema version " + std::to_string(kSchemaVersion));
+                         ", this dynref reads schema versions " +
+                         std::to_string(kOldestReadableSchema) + " to " +
+                         std::to_string(kSchemaVersion));
+  schema_version_ = static_cast<int>(version);
+  const bool checksummed = schema_version_ >= 2;
   const uint8_t level = static_cast<uint8_t>(pre[12]);
   if (level > 2) throw TraceError(path, TraceProblem::kCorrupt, "bad level byte");
   level_ = static_cast<Level>(level);
@@ -156,9 +181,29 @@ TraceReader::TraceReader(const std::string& path) : path_(path) {
       std::string k = c.Str();
       header_.emplace_back(std::move(k), c.Str());
     }
+    body_offset_ = format::kPreambleSize + c.Pos(head.data());
+    if (checksummed) {
+      const uint32_t computed = Crc32cExtend(Crc32c(pre), head.data(), c.Pos(head.data()));
+      const uint32_t stored = c.Fixed32();
+      if (stored != computed)
+        throw TraceError(path, TraceProblem::kCorrupt,
+                         "header checksum mismatch (CRC-32C stored " + Hex32(stored) +
+                             ", computed " + Hex32(computed) + ")");
+      body_offset_ += 4;
+    }
   }
   const uint64_t footer_size = static_cast<uint64_t>(size - format::kTrailerSize) - footer_offset_;
-  const std::string footer = ReadAt(file_, path, footer_offset_, footer_size);
+  std::string footer = ReadAt(file_, path, footer_offset_, footer_size);
+  if (checksummed) {
+    if (footer.size() < 5) throw TraceError(path, TraceProblem::kCorrupt, "footer too short");
+    const uint32_t stored = LoadU32(footer.data() + footer.size() - 4);
+    footer.resize(footer.size() - 4);
+    const uint32_t computed = Crc32c(footer);
+    if (stored != computed)
+      throw TraceError(path, TraceProblem::kCorrupt,
+                       "footer checksum mismatch (CRC-32C stored " + Hex32(stored) +
+                           ", computed " + Hex32(computed) + ")");
+  }
   Cursor c(path, footer.data(), footer.size());
   if (c.U8() != format::kTagFooter) c.Fail("footer does not start with tag 0x7F");
   record_count_ = c.Varint();
@@ -169,6 +214,7 @@ TraceReader::TraceReader(const std::string& path) : path_(path) {
     g.frame = c.SVarint();
     g.offset = c.Varint();
     g.records = c.Varint();
+    if (checksummed) g.crc = c.Fixed32();
     if (g.offset < format::kPreambleSize || g.offset > footer_offset_ ||
         (!groups_.empty() && g.offset < groups_.back().offset))
       c.Fail("frame index offset out of order or range");
@@ -177,6 +223,10 @@ TraceReader::TraceReader(const std::string& path) : path_(path) {
   const uint64_t nstrings = c.Varint();
   for (uint64_t i = 0; i < nstrings; ++i) strings_.push_back(c.Str());
   if (!c.AtEnd()) c.Fail("extra bytes after the string table");
+  // Schema 2: the groups tile the body exactly, so every body byte is under a checksum.
+  if (checksummed && (groups_.empty() ? footer_offset_ != body_offset_
+                                      : groups_.front().offset != body_offset_))
+    c.Fail("frame groups do not start where the body starts");
 }
 
 TraceReader::~TraceReader() {
@@ -193,6 +243,13 @@ std::vector<Record> TraceReader::ReadGroup(size_t gi) {
   const Group& g = groups_.at(gi);
   const uint64_t end = gi + 1 < groups_.size() ? groups_[gi + 1].offset : footer_offset_;
   const std::string block = ReadAt(file_, path_, g.offset, end - g.offset);
+  if (schema_version_ >= 2) {
+    const uint32_t computed = Crc32c(block);
+    if (computed != g.crc)
+      throw TraceError(path_, TraceProblem::kCorrupt,
+                       "at frame " + std::to_string(g.frame) + ": block checksum mismatch (CRC-32C stored " +
+                           Hex32(g.crc) + ", computed " + Hex32(computed) + ")");
+  }
   Cursor c(path_, block.data(), block.size());
   auto ref = [&]() -> const std::string& {
     const uint64_t id = c.Varint();

@@ -22,7 +22,9 @@ const char* TraceProblemName(TraceProblem problem);
 class TraceError : public InputError {
  public:
   TraceError(const std::string& file, TraceProblem problem, const std::string& what)
-      : InputError(file, std::string(TraceProblemName(problem)) + ": " + what), problem_(problem) {}
+      : InputError(file, std::string(TraceProblemName(problem)) +
+                             (what.rfind("at frame ", 0) == 0 ? " " : ": ") + what),
+        problem_(problem) {}
   TraceProblem problem() const { return problem_; }
 
  private:
@@ -85,8 +87,10 @@ class TraceReader {
     int64_t frame;
     uint64_t offset;
     uint64_t records;
+    uint32_t crc = 0;  // schema 2: CRC-32C of the group's bytes
   };
-  // path: a trace file. Throws TraceError naming the problem (missing, truncated, version, ...).
+  // path: a trace file (schema 1 or 2; schema 2 checksums are verified: the header and footer
+  // here, each frame block in ReadGroup). Throws TraceError naming the problem (missing, truncated, version, ...).
   explicit TraceReader(const std::string& path);
   ~TraceReader();
   TraceReader(const TraceReader&) = delete;
@@ -94,12 +98,13 @@ class TraceReader {
 
   const std::string& path() const { return path_; }
   Level level() const { return level_; }
+  int schema_version() const { return schema_version_; }
   const std::vector<std::pair<std::string, std::string>>& header() const { return header_; }
   std::string HeaderValue(const std::string& key) const;  // "" if absent
   const std::string& end_state() const { return end_state_; }
   uint64_t record_count() const { return record_count_; }
   const std::vector<Group>& groups() const { return groups_; }  // file order
-  // Records of group i in file order (TraceError kCorrupt on a bad block).
+  // Records of group i in file order (TraceError kCorrupt "corrupt at frame N" on a bad block).
   std::vector<Record> ReadGroup(size_t i);
 
  private:
@@ -108,7 +113,8 @@ class TraceReader {
   Level level_ = Level::kOff;
   std::vector<std::pair<std::string, std::string>> header_;
   std::string end_state_;
-  uint64_t record_count_ = 0, footer_offset_ = 0;
+  int schema_version_ = 0;
+  uint64_t record_count_ = 0, footer_offset_ = 0, body_offset_ = 0;
   std::vector<Group> groups_;
   std::vector<std::string> strings_;
 };

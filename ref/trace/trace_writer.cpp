@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "core/atomic_file.h"
+#include "core/crc32c.h"
 #include "core/error.h"
 #include "trace/trace_format.h"
 
@@ -51,6 +52,7 @@ struct FrameIndexEntry {
   int64_t frame;
   uint64_t offset;
   uint64_t records;
+  uint32_t crc = 0;  // CRC-32C of the group's bytes [offset, next group's offset or footer)
 };
 }  // namespace
 
@@ -64,12 +66,34 @@ struct TraceWriter::Impl {
   std::vector<std::string> string_table;
   std::vector<FrameIndexEntry> index;
   std::vector<uint64_t> scratch;  // string ids of one record's input names
+  uint64_t crc_pos = 0;          // bytes before this offset are folded into group_crc
+  uint32_t group_crc = 0;        // running CRC-32C of the current frame group
   bool closed = false;
 
   uint64_t Offset() const { return flushed + buf.size(); }
 
+  // Folds the pending bytes not yet checksummed into the current group's CRC.
+  void FeedCrc() {
+    const size_t from = static_cast<size_t>(crc_pos - flushed);
+    group_crc = Crc32cExtend(group_crc, buf.data() + from, buf.size() - from);
+    crc_pos = Offset();
+  }
+  // Closes the current group's checksum and starts a new group at the current offset.
+  void StartGroup(int64_t frame) {
+    FeedCrc();
+    if (!index.empty()) index.back().crc = group_crc;
+    group_crc = 0;
+    index.push_back({frame, Offset(), 0});
+  }
+  // Bytes before the first BeginFrame (string definitions, records) form group -1, so every
+  // body byte belongs to exactly one checksummed group.
+  void EnsureGroup() {
+    if (index.empty()) StartGroup(-1);
+  }
+
   void Flush() {
     if (buf.empty()) return;
+    FeedCrc();
     if (std::fwrite(buf.data(), 1, buf.size(), file) != buf.size())
       throw std::runtime_error("trace: write failed: " + temp_path);
     flushed += buf.size();
@@ -80,6 +104,9 @@ struct TraceWriter::Impl {
   }
 
   void U8(uint8_t v) { buf.push_back(static_cast<char>(v)); }
+  void Fixed32(uint32_t v) {
+    for (int i = 0; i < 4; ++i) U8(static_cast<uint8_t>((v >> (8 * i)) & 0xFF));
+  }
   void Varint(uint64_t v) {
     while (v >= 0x80) {
       buf.push_back(static_cast<char>((v & 0x7F) | 0x80));
@@ -109,6 +136,7 @@ struct TraceWriter::Impl {
   uint64_t Intern(const std::string& s) {
     auto it = strings.find(s);
     if (it != strings.end()) return it->second;
+    EnsureGroup();
     const uint64_t id = string_table.size();
     strings.emplace(s, id);
     string_table.push_back(s);
@@ -119,7 +147,7 @@ struct TraceWriter::Impl {
   }
   // Every non-string record goes through here: counts it for the current frame group.
   void StartRecord() {
-    if (index.empty()) index.push_back({-1, Offset(), 0});  // records before any BeginFrame
+    EnsureGroup();
     ++index.back().records;
     ++records;
   }
@@ -136,8 +164,7 @@ TraceWriter::TraceWriter(const std::string& path, Level level, const RunHeader& 
   impl_->buf.reserve(kFlushBytes + 4096);
   Impl& w = *impl_;
   w.buf.append(format::kMagic, 8);
-  const uint32_t version = kSchemaVersion;
-  for (int i = 0; i < 4; ++i) w.U8(static_cast<uint8_t>((version >> (8 * i)) & 0xFF));
+  w.Fixed32(kSchemaVersion);
   w.U8(static_cast<uint8_t>(level_));
   w.U8(0), w.U8(0), w.U8(0);
   // Header: key/value list (README "Header"); unknown keys are ignored by readers.
@@ -152,6 +179,8 @@ TraceWriter::TraceWriter(const std::string& path, Level level, const RunHeader& 
     w.Str(k);
     w.Str(v);
   }
+  w.Fixed32(Crc32c(w.buf));  // schema 2: CRC-32C over preamble + header
+  w.crc_pos = w.Offset();    // the body starts here
 }
 
 TraceWriter::~TraceWriter() {
@@ -163,7 +192,7 @@ TraceWriter::~TraceWriter() {
 void TraceWriter::BeginFrame(int frame, double timestamp) {
   if (!frames_enabled()) return;
   Impl& w = *impl_;
-  w.index.push_back({frame, w.Offset(), 0});
+  w.StartGroup(frame);
   w.StartRecord();
   w.U8(format::kTagFrame);
   w.SVarint(frame);
@@ -279,6 +308,8 @@ void TraceWriter::Decision(const std::string& stage, EntityKind kind, const std:
 void TraceWriter::Close(const std::string& end_state) {
   if (!impl_ || impl_->closed) return;
   Impl& w = *impl_;
+  w.FeedCrc();
+  if (!w.index.empty()) w.index.back().crc = w.group_crc;
   const uint64_t footer_offset = w.Offset();
   w.U8(format::kTagFooter);
   w.Varint(w.records);
@@ -288,9 +319,12 @@ void TraceWriter::Close(const std::string& end_state) {
     w.SVarint(e.frame);
     w.Varint(e.offset);
     w.Varint(e.records);
+    w.Fixed32(e.crc);
   }
   w.Varint(w.string_table.size());
   for (const std::string& s : w.string_table) w.Str(s);
+  const size_t footer_in_buf = static_cast<size_t>(footer_offset - w.flushed);
+  w.Fixed32(Crc32c(w.buf.data() + footer_in_buf, w.buf.size() - footer_in_buf));
   w.Fixed64(footer_offset);
   w.buf.append(format::kEndMagic, 8);
   w.Flush();

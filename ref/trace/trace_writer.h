@@ -19,7 +19,8 @@
 
 namespace dynref::trace {
 
-constexpr int kSchemaVersion = 1;
+constexpr int kSchemaVersion = 2;          // what the writer writes (2: CRC-32C per block)
+constexpr int kOldestReadableSchema = 1;   // readers still accept schema 1 (no checksums)
 
 enum class Level : uint8_t { kOff = 0, kFrames = 1, kFull = 2 };
 Level ParseLevel(const std::string& text);  // "off" | "frames" | "full"; InputError otherwise
