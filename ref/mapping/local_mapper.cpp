@@ -328,7 +328,7 @@ int LocalMapper::SearchInNeighbors(KeyFrame& kf) {
   return fused;
 }
 
-int LocalMapper::LocalBundleAdjustment(KeyFrame& kf, double* ms) {
+int LocalMapper::LocalBundleAdjustment(KeyFrame& kf, LocalMapperStats* stats) {
   // ORB-SLAM2 Optimizer::LocalBundleAdjustment: the keyframe and its covisibles are free
   // (keyframe 0 fixed), keyframes observing their points but outside are fixed.
   std::set<int64_t> local{kf.id};
@@ -366,13 +366,16 @@ int LocalMapper::LocalBundleAdjustment(KeyFrame& kf, double* ms) {
     }
   }
   ++ba_calls_;
+  stats->ba_keyframes = static_cast<int>(kfs.size());
+  stats->ba_points = static_cast<int>(pts.size());
+  stats->ba_observations = static_cast<int>(obs.size());
   const Intrinsics K = camera_.Pinhole();
   timespec c0{}, c1{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c0);  // CPU time of this (single) thread
   const optim::LocalBAResult r = optim::LocalBundleAdjust(K, kfs, pts, obs, options_.ba, &trace_,
                                                           "localba#" + std::to_string(ba_calls_));
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
-  *ms = (c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6;
+  stats->ba_ms = (c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6;
   int outliers = 0;
   for (size_t i = 0; i < obs.size(); ++i) {
     if (r.inlier[i]) continue;
@@ -436,13 +439,14 @@ LocalMapperStats LocalMapper::ProcessKeyFrame(int64_t kf_id) {
   s.culled_points = MapPointCulling(kf);
   s.new_points = CreateNewMapPoints(kf);
   s.fused = SearchInNeighbors(kf);
-  if (options_.local_ba && map_.keyframes.size() > 2) s.ba_outliers = LocalBundleAdjustment(kf, &s.ba_ms);
+  if (options_.local_ba && map_.keyframes.size() > 2) s.ba_outliers = LocalBundleAdjustment(kf, &s);
   if (options_.keyframe_culling) s.culled_keyframes = KeyFrameCulling(kf);
   trace_.FrameCount("mapping", "culled_points", s.culled_points);
   trace_.FrameCount("mapping", "new_points", s.new_points);
   trace_.FrameCount("mapping", "fused", s.fused);
   trace_.FrameCount("mapping", "ba_outliers", s.ba_outliers);
   trace_.FrameCount("mapping", "culled_keyframes", s.culled_keyframes);
+  trace_.FrameCount("mapping", "ba_observations", s.ba_observations);
   return s;
 }
 

@@ -25,6 +25,8 @@ struct LocalMapperOptions {
 
 struct LocalMapperStats {
   int culled_points = 0, new_points = 0, fused = 0, ba_outliers = 0, culled_keyframes = 0;
+  // Size of the local BA problem (0 when none ran): what the virtual mapping clock charges.
+  int ba_keyframes = 0, ba_points = 0, ba_observations = 0;
   double ba_ms = 0;                      // time inside LocalBundleAdjust (run.json only)
 };
 
@@ -40,7 +42,7 @@ class LocalMapper {
   int CreateNewMapPoints(KeyFrame& kf);
   int SearchInNeighbors(KeyFrame& kf);
   int Fuse(KeyFrame& target, const std::vector<int64_t>& points, float th);
-  int LocalBundleAdjustment(KeyFrame& kf, double* ms);
+  int LocalBundleAdjustment(KeyFrame& kf, LocalMapperStats* stats);
   int KeyFrameCulling(const KeyFrame& kf);
 
   Map& map_;

@@ -52,6 +52,18 @@ const std::vector<KeyRow>& Rows() {
        [](BackboneOptions& o, double v) { o.mapper.keyframe_culling = v != 0; }},
       {"local_ba", "true", "default: ORB-SLAM2 local mapping runs local BA", K::kBool, 0, 0, false,
        [](BackboneOptions& o, double v) { o.mapper.local_ba = v != 0; }},
+      {"mapping_clock", "true",
+       "dynref (issue 18): local mapping is busy for a virtual time charged per keyframe (ref/mapping/mapping_clock.h), "
+       "as ORB-SLAM2's concurrent local mapper; false = idle at every frame (every low-inlier frame becomes a keyframe)",
+       K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.mapping_clock.enabled = v != 0; }},
+      {"mapping_max_queue", "3", "default: ORB-SLAM2 Tracking::NeedNewKeyFrame KeyframesInQueue() < 3 (RGB-D)", K::kInt, 1, 1000, false,
+       [](BackboneOptions& o, double v) { o.mapping_clock.max_queue = static_cast<int>(v); }},
+      {"mapping_ms_per_ba_observation", "0.016",
+       "dynref (issue 18): not in ORB-SLAM2; virtual cost per local-BA observation, calibrated on the reference machine (ref/mapping/README.md)",
+       K::kDouble, 0, 1e6, false, [](BackboneOptions& o, double v) { o.mapping_clock.ms_per_ba_observation = v; }},
+      {"mapping_ms_per_keyframe", "12",
+       "dynref (issue 18): not in ORB-SLAM2; virtual cost per keyframe besides local BA, calibrated on the reference machine (ref/mapping/README.md)",
+       K::kDouble, 0, 1e6, false, [](BackboneOptions& o, double v) { o.mapping_clock.ms_per_keyframe = v; }},
       {"max_frames", "30", "default: ORB-SLAM2 mMaxFrames = Camera.fps (30)", K::kInt, 1, 100000, false,
        [](BackboneOptions& o, double v) { o.tracker.max_frames = static_cast<int>(v); }},
       {"min_init_points", "500", "default: ORB-SLAM2 Tracking::StereoInitialization N > 500", K::kInt, 1, 100000, false,
@@ -112,6 +124,7 @@ void BackboneOptions::Check() const {
   orb.Check();
   tracker.Check();
   mapper.Check();
+  mapping_clock.Check();
 }
 
 std::vector<BackboneKeyInfo> BackboneKeys() {

@@ -3,6 +3,7 @@
 
 #include <time.h>
 
+#include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
@@ -33,7 +34,9 @@ FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session
       pyramid_(ScalePyramid::Make(inputs.config->backbone.orb.n_levels, inputs.config->backbone.orb.scale_factor)),
       rgb_flag_(inputs.config->backbone.camera_rgb_flag),
       tracker_(camera_, map_, inputs.config->backbone.tracker, trace),
-      mapper_(map_, camera_, inputs.config->backbone.mapper, trace) {
+      mapper_(map_, camera_, inputs.config->backbone.mapper, trace),
+      mapping_clock_(inputs.config->backbone.mapping_clock),
+      clock_options_max_queue_(inputs.config->backbone.mapping_clock.max_queue) {
   map_.AddObserver(&session_);  // landmark events reach the method's components
 }
 
@@ -98,7 +101,13 @@ bool FrameLoop::Process(size_t k) {
       } else {
         lost_reason = was_lost ? "lost: relocalisation failed" : "lost: initial pose failed";
       }
-      if (ok && tracker_.NeedNewKeyFrame(f)) new_kf = tracker_.CreateNewKeyFrame(f);
+      if (ok) {
+        const mapping::MappingLoad load = mapping_clock_.LoadAt(f.stamp);
+        trace_.FrameCount("mapping", "idle", load.idle ? 1 : 0);
+        trace_.FrameCount("mapping", "queued", load.queued);
+        if (tracker_.NeedNewKeyFrame(f, load.idle, load.queued, clock_options_max_queue_))
+          new_kf = tracker_.CreateNewKeyFrame(f);
+      }
     }
     const double t2 = NowMs();
     if (ok) trace_.FramePose("final", f.T_cw.inverse());
@@ -118,7 +127,10 @@ bool FrameLoop::Process(size_t k) {
       session_.Run(Hook::kOnKeyFrameCreated, ctx);
       const MapModuleContext mctx{f, *new_kf, map_, camera_, trace_};
       session_.OnKeyFrame(mctx);
-      ba_ms = mapper_.ProcessKeyFrame(new_kf->id).ba_ms;
+      const mapping::LocalMapperStats ms = mapper_.ProcessKeyFrame(new_kf->id);
+      ba_ms = ms.ba_ms;
+      const double cost_ms = mapping_clock_.Charge(f.stamp, ms);
+      trace_.FrameCount("mapping", "virtual_cost_us", static_cast<int64_t>(std::llround(cost_ms * 1e3)));
       session_.Run(Hook::kOnMapUpdate, ctx);
       session_.OnMapUpdate(mctx);
       ctx.new_keyframe_edit = nullptr;

@@ -1,6 +1,7 @@
 // The backbone's per-frame work (hooks in method/hooks.h): load, before-extraction stages, ORB
 // extraction, tracking with the method's stages between its steps, keyframe decision, map
-// modules and sequential local mapping. One FrameLoop per run; it owns the map, the tracker and
+// modules and sequential local mapping (busy or idle for the keyframe decision by the virtual
+// mapping clock, ref/mapping/mapping_clock.h). One FrameLoop per run; it owns the map, the tracker and
 // the local mapper, and counts what run.json reports.
 #pragma once
 #include <string>
@@ -10,6 +11,7 @@
 #include "features/orb_extractor.h"
 #include "map/map.h"
 #include "mapping/local_mapper.h"
+#include "mapping/mapping_clock.h"
 #include "method/session.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/run_inputs.h"
@@ -53,6 +55,8 @@ class FrameLoop {
   Map map_;
   tracking::Tracker tracker_;
   mapping::LocalMapper mapper_;
+  mapping::MappingClock mapping_clock_;  // when local mapping counts as busy (issue 18)
+  int clock_options_max_queue_;
   RunResult result_;
   std::vector<std::pair<int, std::string>> lost_reasons_;  // frame position -> reason
   ModuleTimings timings_;

@@ -293,8 +293,9 @@ bool Tracker::OptimizeFinal(Frame& f) {
   return true;
 }
 
-bool Tracker::NeedNewKeyFrame(const Frame& f) const {
-  // ORB-SLAM2 Tracking::NeedNewKeyFrame (RGB-D; local mapping always idle when sequential).
+bool Tracker::NeedNewKeyFrame(const Frame& f, bool mapping_idle, int keyframes_queued,
+                              int max_queue) const {
+  // ORB-SLAM2 Tracking::NeedNewKeyFrame (RGB-D).
   int n_kfs = 0;
   for (const auto& kv : map_.keyframes) n_kfs += kv.second->bad ? 0 : 1;
   if (f.index < last_reloc_frame_ + options_.max_frames && n_kfs > options_.max_frames) return false;
@@ -313,10 +314,12 @@ bool Tracker::NeedNewKeyFrame(const Frame& f) const {
   const bool need_close = tracked_close < 100 && non_tracked_close > 70;
   const double th_ref_ratio = n_kfs < 2 ? 0.4 : 0.75;
   const bool c1a = f.index >= last_kf_frame_ + options_.max_frames;
-  const bool c1b = f.index >= last_kf_frame_ + options_.min_frames;  // local mapping idle
+  const bool c1b = f.index >= last_kf_frame_ + options_.min_frames && mapping_idle;
   const bool c1c = matches_inliers_ < ref_matches * 0.25 || need_close;
   const bool c2 = (matches_inliers_ < ref_matches * th_ref_ratio || need_close) && matches_inliers_ > 15;
-  return (c1a || c1b || c1c) && c2;
+  if (!((c1a || c1b || c1c) && c2)) return false;
+  // Busy mapping: ORB-SLAM2 interrupts local BA and, for RGB-D, inserts while the queue is short.
+  return mapping_idle || keyframes_queued < max_queue;
 }
 
 KeyFrame* Tracker::CreateNewKeyFrame(Frame& f) {

@@ -1,6 +1,7 @@
 // ORB-SLAM2 Tracking (RGB-D, SLAM mode) as explicit steps the pipeline calls in frame order, so
 // that method stages run between them (ref/method/hooks.h). Single-threaded: local mapping
-// runs after each keyframe (ref/mapping), so ORB-SLAM2's "local mapping idle" is always true.
+// runs after each keyframe (ref/mapping); whether it counts as idle for the keyframe decision
+// comes from the virtual mapping clock (ref/mapping/mapping_clock.h).
 #pragma once
 #include <cstdint>
 #include <memory>
@@ -59,7 +60,10 @@ class Tracker {
   // Final pose optimisation and ORB-SLAM2's TrackLocalMap success test; on success updates the
   // motion model (before local mapping, as ORB-SLAM2 Tracking::Track).
   bool OptimizeFinal(Frame& f);
-  bool NeedNewKeyFrame(const Frame& f) const;
+  // mapping_idle: ORB-SLAM2 LocalMapping::AcceptKeyFrames(); keyframes_queued: its queue
+  // length (ref/mapping/mapping_clock.h models both deterministically).
+  bool NeedNewKeyFrame(const Frame& f, bool mapping_idle = true, int keyframes_queued = 0,
+                       int max_queue = 3) const;
   KeyFrame* CreateNewKeyFrame(Frame& f);
   // Ends the frame: outlier cleanup, last frame, trajectory record.
   void FinishFrame(Frame& f, bool ok);

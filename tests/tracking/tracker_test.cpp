@@ -72,3 +72,30 @@ TEST_CASE("tracking: real frames track, exclusion is honoured, relocalisation re
   CHECK(rec[3].lost);
   CHECK_FALSE(rec[4].lost);
 }
+
+TEST_CASE("tracking: a busy local mapper restricts keyframes as ORB-SLAM2's NeedNewKeyFrame") {
+  Fixture fx;
+  Frame f0 = fx.Load(0);
+  KeyFrame* kf = fx.tracker.TryInitialise(f0);
+  REQUIRE(kf != nullptr);
+  fx.mapper.ProcessKeyFrame(kf->id);
+  fx.tracker.FinishFrame(f0, true);
+  int wanted_when_idle = 0;
+  for (int i = 1; i < 9; ++i) {
+    Frame f = fx.Load(i);
+    bool ok = fx.tracker.TrackInitial(f);
+    if (ok) {
+      fx.tracker.SearchLocalMap(f);
+      ok = fx.tracker.OptimizeFinal(f);
+    }
+    if (!ok) break;
+    const bool idle = fx.tracker.NeedNewKeyFrame(f, true, 0, 3);
+    const bool busy = fx.tracker.NeedNewKeyFrame(f, false, 0, 3);
+    CHECK_FALSE(fx.tracker.NeedNewKeyFrame(f, false, 3, 3));  // RGB-D: queue of 3 is full
+    CHECK((!busy || idle));  // busy mapping never allows more than idle mapping
+    wanted_when_idle += idle ? 1 : 0;
+    if (idle) fx.mapper.ProcessKeyFrame(fx.tracker.CreateNewKeyFrame(f)->id);
+    fx.tracker.FinishFrame(f, ok);
+  }
+  CHECK(wanted_when_idle > 0);
+}
