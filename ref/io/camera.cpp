@@ -111,6 +111,8 @@ Camera ReadOrbSlamCameraYaml(const std::string& path) {
   try {
     if (!fs.open(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_YAML))
       throw InputError(path, "cannot open camera YAML (missing or unreadable)");
+    // A top level that is a list or a scalar would make every fs[key] an OpenCV assertion.
+    if (!fs.root().isMap()) throw InputError(path, "top level must be a map of Camera.* keys");
   } catch (const cv::Exception& e) {
     throw InputError(path, std::string("not a readable ORB-SLAM2 camera YAML: ") + e.what());
   }
@@ -123,7 +125,12 @@ Camera ReadOrbSlamCameraYaml(const std::string& path) {
     throw InputError(path, line_of(key), key + " " + what);
   };
   auto number = [&](const std::string& key, bool mandatory, double fallback) {
-    const cv::FileNode node = fs[key];
+    cv::FileNode node;
+    try {
+      node = fs[key];
+    } catch (const cv::Exception& e) {
+      throw InputError(path, line_of(key), "cannot read key '" + key + "': " + e.what());
+    }
     if (node.empty() || node.isNone()) {
       if (mandatory) throw InputError(path, "missing mandatory key '" + key + "'");
       return fallback;

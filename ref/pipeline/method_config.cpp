@@ -15,12 +15,19 @@ namespace {
 
 int LineOf(const YAML::Node& n) { return n.Mark().line >= 0 ? n.Mark().line + 1 : 0; }
 
+// A map key as text; a key that is itself a map or a list ("{a: 1}: 2") is refused by name
+// (yaml-cpp would throw a bare "bad conversion" from as<std::string>()).
+std::string KeyText(const YAML::Node& key, const std::string& file) {
+  if (!key.IsScalar()) throw InputError(file, LineOf(key), "a key must be a plain name, not a map or a list");
+  return key.as<std::string>();
+}
+
 // yaml-cpp keeps both entries of a key given twice (lookups see the first, iteration both):
 // refuse it, naming the line of the second.
 void RejectDuplicateKeys(const YAML::Node& map, const std::string& file, const std::string& where) {
   std::map<std::string, int> seen;
   for (const auto& kv : map) {
-    const std::string k = kv.first.as<std::string>();
+    const std::string k = KeyText(kv.first, file);
     const auto [it, inserted] = seen.emplace(k, LineOf(kv.first));
     if (!inserted)
       throw InputError(file, LineOf(kv.first), where + "duplicate key '" + k +
@@ -36,7 +43,7 @@ Param ReadParam(const YAML::Node& node, const std::string& key, const std::strin
   if (!node.IsMap()) throw InputError(file, p.line, key + ": expected {value: ..., source: \"...\"}");
   RejectDuplicateKeys(node, file, key + ": ");
   for (const auto& kv : node) {
-    const std::string k = kv.first.as<std::string>();
+    const std::string k = KeyText(kv.first, file);
     if (k != "value" && k != "source")
       throw InputError(file, LineOf(kv.first), key + ": unknown key '" + k + "' (expected value, source)");
   }
@@ -69,6 +76,69 @@ nlohmann::json ParamJson(const Param& p) {
   return j;
 }
 
+MethodConfig ParseMethodConfig(const YAML::Node& root, const std::string& path) {
+  if (!root.IsMap()) throw InputError(path, "top level must be a map (method, backbone, stages)");
+  RejectDuplicateKeys(root, path, "");
+  MethodConfig cfg;
+  cfg.path = path;
+  for (const auto& kv : root) {
+    const std::string k = KeyText(kv.first, path);
+    if (k != "method" && k != "backbone" && k != "stages")
+      throw InputError(path, LineOf(kv.first), "unknown key '" + k + "' (expected method, backbone, stages)");
+  }
+  if (!root["method"] || !root["method"].IsScalar()) throw InputError(path, "missing 'method: NAME'");
+  cfg.method = root["method"].as<std::string>();
+  std::map<std::string, Param> given;
+  if (root["backbone"]) {
+    const YAML::Node b = root["backbone"];
+    if (!b.IsMap()) throw InputError(path, LineOf(b), "backbone must be a map");
+    RejectDuplicateKeys(b, path, "backbone: ");
+    for (const auto& kv : b) {
+      const std::string k = KeyText(kv.first, path);
+      bool known = false;
+      for (const BackboneKeyInfo& d : BackboneKeys()) known = known || k == d.key;
+      if (!known) throw InputError(path, LineOf(kv.first), "unknown backbone key '" + k + "'");
+      given[k] = ReadParam(kv.second, k, path);
+    }
+  }
+  cfg.backbone = ResolveBackbone(given, path, &cfg.backbone_params);
+
+  if (root["stages"]) {
+    const YAML::Node s = root["stages"];
+    if (!s.IsSequence()) throw InputError(path, LineOf(s), "stages must be a list");
+    std::map<std::string, int> stage_lines;  // no config lists a stage twice: refused
+    for (const auto& st : s) {
+      if (!st.IsMap()) throw InputError(path, LineOf(st), "a stage must be {name: ..., params: {...}}");
+      RejectDuplicateKeys(st, path, "stage: ");
+      StageConfig sc;
+      for (const auto& kv : st) {
+        const std::string k = KeyText(kv.first, path);
+        if (k != "name" && k != "params")
+          throw InputError(path, LineOf(kv.first), "unknown stage key '" + k + "' (expected name, params)");
+      }
+      if (!st["name"] || !st["name"].IsScalar()) throw InputError(path, LineOf(st), "stage without name");
+      sc.name = st["name"].as<std::string>();
+      const auto [first, inserted] = stage_lines.emplace(sc.name, LineOf(st));
+      if (!inserted)
+        throw InputError(path, LineOf(st), "stage '" + sc.name + "' listed twice (first at line " +
+                                               std::to_string(first->second) + ")");
+      sc.params.stage_name = sc.name;
+      sc.params.file = path;
+      sc.params.line = LineOf(st);
+      if (st["params"]) {
+        if (!st["params"].IsMap()) throw InputError(path, LineOf(st["params"]), "params must be a map");
+        RejectDuplicateKeys(st["params"], path, sc.name + ": ");
+        for (const auto& kv : st["params"]) {
+          const std::string k = KeyText(kv.first, path);
+          sc.params.params[k] = ReadParam(kv.second, sc.name + "." + k, path);
+        }
+      }
+      cfg.stages.push_back(std::move(sc));
+    }
+  }
+  return cfg;
+}
+
 }  // namespace
 
 std::string MethodConfigPath(const std::string& method) {
@@ -89,66 +159,12 @@ MethodConfig LoadMethodConfig(const std::string& path) {
   } catch (const std::ios_base::failure&) {
     throw InputError(path, "cannot read method config");
   }
-  if (!root.IsMap()) throw InputError(path, "top level must be a map (method, backbone, stages)");
-  RejectDuplicateKeys(root, path, "");
-  MethodConfig cfg;
-  cfg.path = path;
-  for (const auto& kv : root) {
-    const std::string k = kv.first.as<std::string>();
-    if (k != "method" && k != "backbone" && k != "stages")
-      throw InputError(path, LineOf(kv.first), "unknown key '" + k + "' (expected method, backbone, stages)");
+  try {
+    return ParseMethodConfig(root, path);
+  } catch (const YAML::Exception& e) {
+    // Backstop: any conversion the checks above did not foresee still names file and line.
+    throw InputError(path, e.mark.line >= 0 ? e.mark.line + 1 : 0, std::string("YAML: ") + e.msg);
   }
-  if (!root["method"] || !root["method"].IsScalar()) throw InputError(path, "missing 'method: NAME'");
-  cfg.method = root["method"].as<std::string>();
-  std::map<std::string, Param> given;
-  if (root["backbone"]) {
-    const YAML::Node b = root["backbone"];
-    if (!b.IsMap()) throw InputError(path, LineOf(b), "backbone must be a map");
-    RejectDuplicateKeys(b, path, "backbone: ");
-    for (const auto& kv : b) {
-      const std::string k = kv.first.as<std::string>();
-      bool known = false;
-      for (const BackboneKeyInfo& d : BackboneKeys()) known = known || k == d.key;
-      if (!known) throw InputError(path, LineOf(kv.first), "unknown backbone key '" + k + "'");
-      given[k] = ReadParam(kv.second, k, path);
-    }
-  }
-  cfg.backbone = ResolveBackbone(given, path, &cfg.backbone_params);
-
-  if (root["stages"]) {
-    const YAML::Node s = root["stages"];
-    if (!s.IsSequence()) throw InputError(path, LineOf(s), "stages must be a list");
-    std::map<std::string, int> stage_lines;  // no config lists a stage twice: refused
-    for (const auto& st : s) {
-      if (!st.IsMap()) throw InputError(path, LineOf(st), "a stage must be {name: ..., params: {...}}");
-      RejectDuplicateKeys(st, path, "stage: ");
-      StageConfig sc;
-      for (const auto& kv : st) {
-        const std::string k = kv.first.as<std::string>();
-        if (k != "name" && k != "params")
-          throw InputError(path, LineOf(kv.first), "unknown stage key '" + k + "' (expected name, params)");
-      }
-      if (!st["name"] || !st["name"].IsScalar()) throw InputError(path, LineOf(st), "stage without name");
-      sc.name = st["name"].as<std::string>();
-      const auto [first, inserted] = stage_lines.emplace(sc.name, LineOf(st));
-      if (!inserted)
-        throw InputError(path, LineOf(st), "stage '" + sc.name + "' listed twice (first at line " +
-                                               std::to_string(first->second) + ")");
-      sc.params.stage_name = sc.name;
-      sc.params.file = path;
-      sc.params.line = LineOf(st);
-      if (st["params"]) {
-        if (!st["params"].IsMap()) throw InputError(path, LineOf(st["params"]), "params must be a map");
-        RejectDuplicateKeys(st["params"], path, sc.name + ": ");
-        for (const auto& kv : st["params"]) {
-          const std::string k = kv.first.as<std::string>();
-          sc.params.params[k] = ReadParam(kv.second, sc.name + "." + k, path);
-        }
-      }
-      cfg.stages.push_back(std::move(sc));
-    }
-  }
-  return cfg;
 }
 
 std::string MethodConfig::ToJson() const {

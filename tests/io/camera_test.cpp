@@ -152,3 +152,19 @@ TEST_CASE("camera: ORB-SLAM2 YAML out-of-range values and duplicate keys name fi
   CHECK_THROWS_WITH(ReadOrbSlamCameraYaml(dir + "/nope.yaml"),
                     Contains(dir + "/nope.yaml: camera YAML not found"));
 }
+
+TEST_CASE("camera: a YAML whose top level is a list or a scalar is refused by name (fuzz finding)") {
+  const std::string dir = test::ScratchDir("camera_yaml_top_level");
+  // Found by scripts/fuzz.sh: cv::FileStorage asserted isMap() in operator[] on these.
+  for (const std::string& text : {std::string("%YAML:1.0\n- Camera.fx: 535.4\n- Camera.fy: 539.2\n"),
+                                 std::string("%YAML:1.0\n--- 42\n"), std::string("%YAML:1.0\n[1, 2, 3]\n")}) {
+    INFO(text);
+    const std::string path = test::WriteText(dir + "/top.yaml", text);
+    try {
+      ReadOrbSlamCameraYaml(path);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(std::string(e.what()).find(path) != std::string::npos);
+    }
+  }
+}

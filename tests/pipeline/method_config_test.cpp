@@ -108,6 +108,13 @@ TEST_CASE("method config: duplicate keys and a stage listed twice are errors wit
        "sgdo.mask: duplicate key 'a' (first given at line 5)", 6},
       {"method: x\nstages:\n  - name: sgdo.mask\n    name: sgdo.depth\n",
        "stage: duplicate key 'name'", 4},
+      // Fuzz findings (scripts/fuzz.sh): keys that are maps or lists made yaml-cpp throw a bare
+      // "bad conversion"; they are named now.
+      {"method: x\n{a: 1}: 2\n", "a key must be a plain name, not a map or a list", 2},
+      {"method: x\nbackbone:\n  [n_features]: {value: 1000, source: s}\n",
+       "a key must be a plain name, not a map or a list", 3},
+      {"method: x\nstages:\n  - name: sgdo.mask\n    params:\n      {a: b}: {value: 1, source: s}\n",
+       "a key must be a plain name, not a map or a list", 5},
   };
   int n = 0;
   for (const Case& c : cases) {
