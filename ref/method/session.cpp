@@ -2,6 +2,7 @@
 
 #include <exception>
 
+#include "core/cpu_clock.h"
 #include "core/error.h"
 
 namespace dynref {
@@ -13,6 +14,7 @@ Session::Session(const std::string& config_path, const std::vector<StageConfig>&
     if (const StageFactory* f = registry.FindStage(sc.name)) {
       c.stage = (*f)(sc.params, shared_);
       stages_.push_back(c.stage.get());
+      stage_ms_.push_back(0.0);
     } else if (const MapModuleFactory* m = registry.FindMapModule(sc.name)) {
       c.map_module = (*m)(sc.params, shared_);
       map_modules_.push_back(c.map_module.get());
@@ -31,8 +33,18 @@ Session::~Session() = default;
 void Session::Run(Hook hook, StageContext& ctx) {
   ctx.frame.set_hook(hook);
   if (ctx.new_keyframe_edit != nullptr) ctx.new_keyframe_edit->set_hook(hook);
-  for (Stage* s : stages_)
-    if (s->hook() == hook) s->Run(ctx);
+  for (size_t i = 0; i < stages_.size(); ++i) {
+    if (stages_[i]->hook() != hook) continue;
+    const double t0 = ThreadCpuMs();
+    stages_[i]->Run(ctx);
+    stage_ms_[i] += ThreadCpuMs() - t0;
+  }
+}
+
+std::vector<std::pair<std::string, double>> Session::StageTimes() const {
+  std::vector<std::pair<std::string, double>> out;
+  for (size_t i = 0; i < stages_.size(); ++i) out.emplace_back(stages_[i]->name(), stage_ms_[i]);
+  return out;
 }
 
 void Session::OnKeyFrame(const MapModuleContext& ctx) {

@@ -5,6 +5,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "map/landmark.h"
@@ -32,6 +33,8 @@ class Session : public LandmarkObserver {
   // and the others still run.
   SessionEnd Finish(const Map& map, const std::string& out_dir);
 
+  // CPU ms spent in each stage's Run over the whole run (thread CPU clock), config order.
+  std::vector<std::pair<std::string, double>> StageTimes() const;
   size_t stage_count() const { return stages_.size(); }
   size_t map_module_count() const { return map_modules_.size(); }
   SharedState& shared() { return shared_; }
@@ -44,6 +47,7 @@ class Session : public LandmarkObserver {
   };
   std::vector<Component> components_;  // config order
   std::vector<Stage*> stages_;
+  std::vector<double> stage_ms_;  // parallel to stages_
   std::vector<MapModule*> map_modules_;
 };
 

@@ -1,6 +1,8 @@
 // The frame loop; see frame_loop.h and method/hooks.h for the order of steps and hooks.
 #include "pipeline/frame_loop.h"
 
+#include "core/cpu_clock.h"
+
 #include <time.h>
 
 #include <cmath>
@@ -14,13 +16,8 @@
 namespace dynref {
 namespace {
 
-// Module timings use the thread's CPU clock (the run is single-threaded), so they measure the
-// work done and not the load of the machine. They go to run.json only, never into results.
-double NowMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
+// Module timings use the thread's CPU clock (core/cpu_clock.h).
+double NowMs() { return ThreadCpuMs(); }
 
 }  // namespace
 

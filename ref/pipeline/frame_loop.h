@@ -40,6 +40,7 @@ class FrameLoop {
   RunResult& result() { return result_; }
   const std::vector<std::pair<int, std::string>>& lost_reasons() const { return lost_reasons_; }
   const ModuleTimings& timings() const { return timings_; }
+  const Session& session() const { return session_; }
   int frames_zero_depth() const { return n_zero_depth_; }
   int frames_all_excluded() const { return n_all_excluded_; }
 

@@ -98,6 +98,11 @@ void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop&
   j["timing"] = {{"load", Summary(t.load)}, {"extraction", Summary(t.extraction)}, {"tracking", Summary(t.tracking)},
                  {"local_mapping", Summary(t.mapping)}, {"ba", Summary(t.ba)},
                  {"slam", Summary(t.slam)}, {"total", Summary(t.total)}};
+  // Per method stage, CPU ms per processed frame (the papers' runtime tables; part of the modules above).
+  nlohmann::json stages = nlohmann::json::object();
+  for (const auto& [name, ms] : loop.session().StageTimes())
+    stages[name] = result.frames > 0 ? ms / result.frames : 0.0;
+  j["timing_stages"] = stages;
   nlohmann::json outputs = nlohmann::json::array();
   for (const RunOutput& o : end.outputs) outputs.push_back({{"module", o.module}, {"path", o.path}, {"what", o.what}});
   j["outputs"] = outputs;

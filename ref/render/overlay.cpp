@@ -1,5 +1,7 @@
 #include "render/overlay.h"
 
+#include <array>
+
 #include <sys/stat.h>
 
 #include <algorithm>
@@ -124,11 +126,36 @@ void DrawLegend(Canvas& c, bool gt) {
   }
 }
 
+void DrawMaskLayers(Canvas& c, const MaskLayerView& v) {
+  if (v.legend == nullptr || v.legend->empty()) return;
+  std::array<const MaskLayer*, 256> by_value{};
+  for (const MaskLayer& l : *v.legend) by_value[size_t(l.value)] = &l;
+  if (!v.labels.empty())
+    for (int y = 0; y < std::min(v.labels.rows, c.height()); ++y) {
+      const uint8_t* row = v.labels.ptr<uint8_t>(y);
+      for (int x = 0; x < std::min(v.labels.cols, c.width()); ++x)
+        if (const MaskLayer* l = by_value[row[x]]) c.Blend(x, y, Rgb{uint8_t(l->r), uint8_t(l->g), uint8_t(l->b)}, 90);
+    }
+  // Legend of the layers, top right.
+  int w = 0;
+  for (const MaskLayer& l : *v.legend) w = std::max(w, Canvas::TextWidth(l.name));
+  w += 30;
+  const int h = 16 * int(v.legend->size()) + 6, x0 = c.width() - w - 6, y0 = 6;
+  c.FillRect(x0, y0, x0 + w, y0 + h, kBlack, 170);
+  for (size_t i = 0; i < v.legend->size(); ++i) {
+    const MaskLayer& l = (*v.legend)[i];
+    const int y = y0 + 4 + 16 * int(i);
+    c.FillRect(x0 + 5, y + 2, x0 + 17, y + 12, Rgb{uint8_t(l.r), uint8_t(l.g), uint8_t(l.b)});
+    c.Text(x0 + 24, y, l.name, kWhite);
+  }
+}
+
 }  // namespace
 
 Canvas RenderOverlay(const cv::Mat& bgr, const OverlayFrame& frame, const FrameDetections* detections,
-                     const GtFrame* gt) {
+                     const GtFrame* gt, const MaskLayerView* layers) {
   Canvas c = Canvas::FromBgr(bgr);
+  if (layers) DrawMaskLayers(c, *layers);
   if (detections)
     for (const DetectedInstance& inst : detections->instances) DrawInstance(c, *detections, inst);
   for (const OverlayShape& s : frame.shapes) DrawShape(c, s);
@@ -206,6 +233,9 @@ std::vector<std::string> RenderRunOverlays(const std::string& run_dir, int64_t f
   if (!info.detections.empty()) det = std::make_unique<DetectionsReader>(info.detections);
   std::unique_ptr<GroundTruthLabels> gt;
   if (options.gt) gt = std::make_unique<GroundTruthLabels>(info.sequence);
+  // A method's mask layers (RUN/masks/, io/mask_layers.h), when the run folder has them.
+  std::unique_ptr<MaskLayersReader> layers;
+  if (MaskLayersReader::Exists(run_dir + "/masks")) layers = std::make_unique<MaskLayersReader>(run_dir + "/masks");
   std::string out_dir = options.out_dir;
   if (out_dir.empty()) {
     struct stat st {};
@@ -251,7 +281,12 @@ std::vector<std::string> RenderRunOverlays(const std::string& run_dir, int64_t f
       g.instance_ids = gt->Read(fe.rgb_stamp_text).instance_ids;
       g.moving = gt->Moving(fe.rgb_stamp_text);
     }
-    Canvas c = RenderOverlay(bgr, shown, has_det ? &fd : nullptr, gt ? &g : nullptr);
+    MaskLayerView lv;
+    if (layers) {
+      lv.legend = &layers->legend();
+      lv.labels = layers->Read(fe.rgb_stamp_text, bgr.size());
+    }
+    Canvas c = RenderOverlay(bgr, shown, has_det ? &fd : nullptr, gt ? &g : nullptr, layers ? &lv : nullptr);
     char name[64];
     std::snprintf(name, sizeof(name), "overlay_%06lld.png", static_cast<long long>(of.frame));
     c.WritePng(staging.dir() + "/" + name);

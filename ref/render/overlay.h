@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "io/mask_format.h"
+#include "io/mask_layers.h"
 #include "render/canvas.h"
 #include "trace/trace_reader.h"
 
@@ -79,9 +80,15 @@ struct GtFrame {
   bool IsDynamic(double u, double v) const;
 };
 
-// Draws one overlay. detections/gt may be null.
+// A method's mask layers of the frame (io/mask_layers.h): labels tinted in their legend colour.
+struct MaskLayerView {
+  cv::Mat labels;                          // CV_8U, empty = none this frame
+  const std::vector<MaskLayer>* legend = nullptr;
+};
+
+// Draws one overlay. detections/gt/layers may be null.
 Canvas RenderOverlay(const cv::Mat& bgr, const OverlayFrame& frame, const FrameDetections* detections,
-                     const GtFrame* gt);
+                     const GtFrame* gt, const MaskLayerView* layers = nullptr);
 // Tiles canvases (up to `columns` per row) on a dark background.
 Canvas Montage(const std::vector<Canvas>& tiles, int columns);
 

@@ -13,6 +13,7 @@
 #include "core/format.h"
 #include "core/version.h"
 #include "render/overlay.h"
+#include "reproduce/arg_checks.h"
 #include "reproduce/paper_table.h"
 #include "reproduce/report_format.h"
 #include "reproduce/workspace.h"
@@ -73,38 +74,13 @@ std::pair<std::string, std::string> PaperRows(const std::string& preset) {
 
 namespace {
 
-// Every argument is checked before anything is synthesised, run or written (InputError naming
-// the option), so a typo in the last option does not cost minutes of work first.
-void CheckPresetList(const std::vector<std::string>& presets, const std::string& option, bool allow_empty) {
-  if (presets.empty() && !allow_empty) throw InputError(option, "no presets given");
-  const std::vector<std::string> known = synth::PresetNames();
-  std::string list;
-  for (const auto& n : known) list += (list.empty() ? "" : ", ") + n;
-  std::set<std::string> seen;
-  for (const std::string& p : presets) {
-    if (std::find(known.begin(), known.end(), p) == known.end())
-      throw InputError(option, "unknown preset '" + p + "' (known: " + list +
-                                   (option == "--sensitivity" ? "; or 'none' alone to skip" : "") + ")");
-    if (!seen.insert(p).second) throw InputError(option, "preset '" + p + "' given twice");
-  }
-}
-
 void CheckTable6Args(const Table6Args& a) {
   if (a.frames < 30) throw InputError("--frames", "need at least 30 frames, got " + std::to_string(a.frames));
-  const std::vector<std::string> modes = {"ideal", "yolo-like", "sparseinst-like"};
-  if (std::find(modes.begin(), modes.end(), a.detections) == modes.end())
-    throw InputError("--detections", "unknown detection mode '" + a.detections +
-                                         "' (known: ideal, yolo-like, sparseinst-like)");
+  CheckDetectionMode(a.detections);
   CheckPresetList(a.sequences, "--sequences", false);
   CheckPresetList(a.sensitivity, "--sensitivity", true);
-  if (a.out.empty()) throw InputError("--out", "empty report path");
-  if (a.work.empty()) throw InputError("--work", "empty folder path");
-  std::error_code ec;
-  if (fs::is_directory(a.out, ec)) throw InputError("--out", a.out + " is a directory (give the report's file name)");
-  CheckDirectoryPath(fs::path(a.out).parent_path().string(), "--out");
-  CheckDirectoryPath(a.work, "--work");
+  CheckReportPaths(a.out, a.work);
 }
-
 
 }  // namespace
 

@@ -32,7 +32,7 @@ std::string ReadText(const std::string& path) {
 
 std::string SynthKey(const SynthSpec& s, const std::string& preset) {
   return "preset " + preset + " frames " + std::to_string(s.frames) + " seed " + std::to_string(s.seed) +
-         " detections " + s.detections + " dynref " + DYNREF_GIT_COMMIT + "\n";
+         " detections " + s.detections + (s.blur ? " blur" : "") + " dynref " + DYNREF_GIT_COMMIT + "\n";
 }
 
 // Precision/recall of the features rejected by the config's stages against GT motion labels: a
@@ -88,8 +88,10 @@ std::string Workspace::EnsureSequence(const std::string& preset) {
   o.frames = spec_.frames;
   o.seed = spec_.seed;
   o.detections = spec_.detections;
+  o.blur = spec_.blur;
   o.out = dir;
-  std::cerr << "reproduce: synth " << preset << " (" << spec_.frames << " frames)\n";
+  std::cerr << "reproduce: synth " << preset << " (" << spec_.frames << " frames, seed " << spec_.seed
+            << (spec_.blur ? ", blur" : "") << ")\n";
   synth::GenerateSequence(o);
   AtomicWriteFile(marker, SynthKey(spec_, preset));
   made_.insert(dir);
@@ -111,7 +113,7 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
     o.out_dir = s.run_dir;
     o.method = config.method;
     o.config = std::make_shared<const MethodConfig>(config);
-    o.trace_level = has_stages ? "full" : "frames";
+    o.trace_level = has_stages ? stage_trace_level_ : "frames";
     o.detections_dir = seq_dir + "/detections/" + spec_.detections;
     o.progress = false;
     std::cerr << "reproduce: run " << run_name << "\n";
@@ -133,7 +135,7 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
   } catch (const InputError& e) {
     s.ate_problem = e.what();
   }
-  if (has_stages) {
+  if (has_stages && stage_trace_level_ == "full") {
     std::set<std::string> stages;
     for (const StageConfig& sc : config.stages) stages.insert(sc.name);
     RejectionPrecisionRecall(seq_dir, stages, s);

@@ -16,6 +16,7 @@ struct SynthSpec {
   int frames = 300;
   uint64_t seed = 1;
   std::string detections = "yolo-like";  // synthetic detection mode (SEQ/detections/<mode>)
+  bool blur = false;                     // dynref synth --blur (seed 003)
 };
 
 // One run of one variant on one sequence, evaluated.
@@ -42,11 +43,15 @@ class Workspace {
   // the features they rejected (trace Decision kept=false of any stage) against SEQ/gt/moving.txt.
   RunSummary Run(const std::string& seq_dir, const std::string& run_name, const MethodConfig& config,
                  const std::string& label);
+  // "frames" keeps runs with stages at trace level frames (no precision/recall; for methods that
+  // trace every keypoint of 3000-feature frames, where full traces of a table reach tens of GB).
+  void set_stage_trace_level(const std::string& level) { stage_trace_level_ = level; }
 
  private:
   std::string dir_;
   SynthSpec spec_;
   bool reuse_;
+  std::string stage_trace_level_ = "full";
   std::set<std::string> made_;  // sequences synthesised by this Workspace (never twice)
 };
 

@@ -3,6 +3,7 @@
 #include <opencv2/imgproc.hpp>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "core/error.h"
 #include "io/coco_classes.h"
@@ -16,6 +17,7 @@ struct Stats {
   int area = 0;
   int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
   double depth_sum = 0;
+  double x_sum = 0, y_sum = 0;
 };
 
 std::map<int, Stats> InstanceStats(const GtFrame& gt) {
@@ -29,6 +31,7 @@ std::map<int, Stats> InstanceStats(const GtFrame& gt) {
       ++s.area;
       s.x0 = std::min(s.x0, x), s.x1 = std::max(s.x1, x), s.y0 = std::min(s.y0, y), s.y1 = std::max(s.y1, y);
       if (z) s.depth_sum += double(z[x]);
+      s.x_sum += x, s.y_sum += y;
     }
   }
   return out;
@@ -93,13 +96,17 @@ DegradeProfile ProfileFor(const std::string& mode) {
   p.name = mode;
   if (mode == "ideal") return p;
   if (mode == "yolo-like") {
-    p.miss_enter = 0.03, p.miss_stay = 0.7, p.blur_miss_factor = 3.0, p.small_miss = 0.15;
+    p.miss_enter = 0.03, p.miss_stay = 0.7, p.small_miss = 0.15;
+    p.blur_drop_per_px = 0.015, p.blur_drop_max = 0.4;
+    p.blur_shrink_per_px = 0.05, p.blur_shrink_max = 0.8, p.blur_shrink_depth = 0.5;
     p.min_area_px = 300, p.boundary_jitter_px = 4, p.limb_drop = 0.15, p.false_positive = 0.08;
     p.confusion = 0.05, p.person_confusion = 0.01, p.box_jitter_px = 3, p.conf_lo = 0.5, p.conf_hi = 0.95;
     return p;
   }
   if (mode == "sparseinst-like") {
-    p.miss_enter = 0.02, p.miss_stay = 0.6, p.blur_miss_factor = 3.0, p.small_miss = 0.1;
+    p.miss_enter = 0.02, p.miss_stay = 0.6, p.small_miss = 0.1;
+    p.blur_drop_per_px = 0.01, p.blur_drop_max = 0.3;
+    p.blur_shrink_per_px = 0.05, p.blur_shrink_max = 0.8, p.blur_shrink_depth = 0.5;
     p.min_area_px = 200, p.boundary_jitter_px = 2, p.limb_drop = 0.25, p.false_positive = 0.05;
     p.confusion = 0.03, p.person_confusion = 0.005, p.box_jitter_px = 1, p.conf_lo = 0.55, p.conf_hi = 0.98;
     return p;
@@ -125,12 +132,37 @@ FrameDetections GtDetections(const GtFrame& gt, const std::map<int, InstanceLabe
   return f;
 }
 
-Degrader::Degrader(const DegradeProfile& profile, const std::map<int, InstanceLabel>& labels, uint64_t seed, bool blur)
-    : p_(profile), labels_(labels), seed_(seed), blur_(blur) {}
+Degrader::Degrader(const DegradeProfile& profile, const std::map<int, InstanceLabel>& labels, uint64_t seed,
+                   double blur_exposure_frames)
+    : p_(profile), labels_(labels), seed_(seed), blur_exposure_frames_(blur_exposure_frames) {}
+
+std::string DegradeEventsLine(const std::string& stamp, const std::vector<DegradeEvent>& events) {
+  std::string line = stamp;
+  for (const DegradeEvent& e : events) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, " %d:%s:%.1f", e.gt_id, e.what.c_str(), e.blur_px);
+    line += buf;
+    if (e.what == "shrunk") line += ":" + std::to_string(e.shrink_px);
+  }
+  return line + "\n";
+}
 
 FrameDetections Degrader::Apply(int frame_index, const GtFrame& gt) {
   Rng rng(seed_, "synth.detections." + p_.name + "." + std::to_string(frame_index));
   const auto stats = InstanceStats(gt);
+  events_.clear();
+  // Blur streak per instance: centroid displacement since the previous frame (px/frame) times
+  // the exposure in frame intervals; 0 without blur or without a previous frame.
+  std::map<int, double> blur_px;
+  for (const auto& [id, s] : stats) {
+    const cv::Point2d c(s.x_sum / s.area, s.y_sum / s.area);
+    const auto prev = centroid_.find(id);
+    if (blur_exposure_frames_ > 0 && previous_frame_ == frame_index - 1 && prev != centroid_.end())
+      blur_px[id] = std::min(p_.blur_max_px, cv::norm(c - prev->second) * blur_exposure_frames_);
+  }
+  centroid_.clear();
+  for (const auto& [id, s] : stats) centroid_[id] = cv::Point2d(s.x_sum / s.area, s.y_sum / s.area);
+  previous_frame_ = frame_index;
   std::vector<Record> recs;
   std::vector<int> static_candidates;
   for (const auto& [id, s] : stats) {
@@ -139,14 +171,32 @@ FrameDetections Degrader::Apply(int frame_index, const GtFrame& gt) {
     const InstanceLabel& label = lit->second;
     if (!label.prior_dynamic && s.area > 2000) static_candidates.push_back(id);
     if (s.area < p_.min_area_px) continue;
+    const auto bit = blur_px.find(id);
+    const double L = bit == blur_px.end() ? 0.0 : bit->second;
     bool& missed = missed_[id];
-    missed = missed ? rng.Bernoulli(p_.miss_stay) : rng.Bernoulli(p_.miss_enter * (blur_ ? p_.blur_miss_factor : 1.0));
+    if (missed) {
+      missed = rng.Bernoulli(p_.miss_stay);
+    } else {
+      const double p_blur = std::min(p_.blur_drop_max, p_.blur_drop_per_px * L);
+      missed = rng.Bernoulli(L > 0 ? 1.0 - (1.0 - p_.miss_enter) * (1.0 - p_blur) : p_.miss_enter);
+    }
     const bool small_miss = s.area < p_.small_area_px && rng.Bernoulli(p_.small_miss);
-    if (missed || small_miss) continue;
+    if (missed || small_miss) {
+      events_.push_back({id, missed ? "missed" : "small-missed", L, 0});
+      continue;
+    }
     Record r;
     r.gt_id = id;
     r.depth = s.depth_sum / s.area;
     r.mask = gt.instance_ids == id;
+    if (L > 0 && rng.Bernoulli(std::min(p_.blur_shrink_max, p_.blur_shrink_per_px * L))) {
+      const int radius = int(std::lround(p_.blur_shrink_depth * L));
+      if (radius > 0) {
+        cv::erode(r.mask, r.mask,
+                  cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1)));
+        events_.push_back({id, "shrunk", L, radius});
+      }
+    }
     if (label.coco_id == 0 && rng.Bernoulli(p_.limb_drop)) {
       const int limbs[4] = {kForearmL, kForearmR, kShinL, kShinR};
       const int limb = limbs[rng.UniformInt(0, 3)];
@@ -185,13 +235,18 @@ FrameDetections Degrader::Apply(int frame_index, const GtFrame& gt) {
   });
   for (size_t i : order) f.instance_ids.setTo(recs[i].det.id, recs[i].mask);
   for (Record& r : recs) {
-    if (cv::countNonZero(f.instance_ids == r.det.id) == 0) continue;  // fully overpainted
+    if (cv::countNonZero(f.instance_ids == r.det.id) == 0) {  // fully overpainted
+      if (!r.false_positive) events_.push_back({r.gt_id, "overpainted", blur_px.count(r.gt_id) ? blur_px[r.gt_id] : 0.0, 0});
+      continue;
+    }
     BoxFromMask(f.instance_ids == r.det.id, p_.box_jitter_px, rng, &r.det);
     r.det.has_mask = true;
     f.instances.push_back(r.det);
   }
   std::sort(f.instances.begin(), f.instances.end(),
             [](const DetectedInstance& a, const DetectedInstance& b) { return a.id < b.id; });
+  std::stable_sort(events_.begin(), events_.end(),
+                   [](const DegradeEvent& a, const DegradeEvent& b) { return a.gt_id < b.gt_id; });
   return f;
 }
 

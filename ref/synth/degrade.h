@@ -19,7 +19,17 @@ struct DegradeProfile {
   std::string name;
   double miss_enter = 0;         // P(detected -> missed) per frame
   double miss_stay = 0;          // P(missed -> missed): mean burst length 1 / (1 - miss_stay)
-  double blur_miss_factor = 1;   // miss_enter multiplier with --blur
+  // Under --blur (seed 003's failure): an instance whose image-space blur streak is L px
+  // (centroid speed in px/frame x exposure in frames, capped at blur_max_px) enters a missed burst with the extra
+  // probability min(blur_drop_max, blur_drop_per_px * L); if still detected, with probability
+  // min(blur_shrink_max, blur_shrink_per_px * L) its mask loses the blurred fringe (eroded by
+  // round(blur_shrink_depth * L) px). Without --blur none of this applies (L = 0).
+  double blur_drop_per_px = 0;
+  double blur_drop_max = 0;
+  double blur_shrink_per_px = 0;
+  double blur_shrink_max = 0;
+  double blur_shrink_depth = 0;
+  double blur_max_px = 30;       // L is capped: a centroid jump by partial visibility is not blur
   double small_miss = 0;         // extra per-frame miss probability below small_area_px
   int small_area_px = 2000;
   int min_area_px = 1;           // instances smaller than this are never detected
@@ -41,18 +51,38 @@ struct GtFrame {
   cv::Mat depth_m;               // CV_32F true depth
 };
 
+// What the degradation did to one GT instance in one frame (gt/dropped-<mode>.txt), so that a
+// method compensating missed segmentations (seed 003) is measured against truth.
+struct DegradeEvent {
+  int gt_id = 0;
+  std::string what;        // missed | small-missed | shrunk | overpainted
+  double blur_px = 0;      // blur streak length L of the instance in this frame
+  int shrink_px = 0;       // erosion radius when shrunk
+};
+
 class Degrader {
  public:
-  Degrader(const DegradeProfile& profile, const std::map<int, InstanceLabel>& labels, uint64_t seed, bool blur);
+  // blur_exposure_frames: exposure time in frame intervals (exposure_s * fps) when the sequence
+  // is rendered with --blur, 0 without blur.
+  Degrader(const DegradeProfile& profile, const std::map<int, InstanceLabel>& labels, uint64_t seed,
+           double blur_exposure_frames);
   FrameDetections Apply(int frame_index, const GtFrame& gt);
+  // Events of the last Apply, ascending GT id.
+  const std::vector<DegradeEvent>& events() const { return events_; }
 
  private:
   DegradeProfile p_;
   std::map<int, InstanceLabel> labels_;
   uint64_t seed_;
-  bool blur_;
-  std::map<int, bool> missed_;   // per GT instance: in a missed burst
+  double blur_exposure_frames_;
+  std::map<int, bool> missed_;            // per GT instance: in a missed burst
+  std::map<int, cv::Point2d> centroid_;   // per GT instance: centroid in the previous frame
+  int previous_frame_ = -2;
+  std::vector<DegradeEvent> events_;
 };
+
+// One line of gt/dropped-<mode>.txt: "stamp id:what:blur_px[:shrink_px] ..." (see datasets/README.md).
+std::string DegradeEventsLine(const std::string& stamp, const std::vector<DegradeEvent>& events);
 
 // Ground-truth record of a frame: every labelled instance with pixels, confidence 1, tight box.
 FrameDetections GtDetections(const GtFrame& gt, const std::map<int, InstanceLabel>& labels);

@@ -144,8 +144,12 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
   if (!modes.empty()) EnsureDirectory(out + "/detections");
   for (const auto& m : modes) {
     det_writers.push_back(std::make_unique<DetectionsWriter>(out + "/detections/" + m, "synthetic:" + m, ""));
-    degraders.emplace_back(ProfileFor(m), world.scene().labels, opt.seed, opt.blur);
+    degraders.emplace_back(ProfileFor(m), world.scene().labels, opt.seed, opt.blur ? opt.exposure_s * kFrameRateHz : 0.0);
   }
+  std::vector<std::ostringstream> dropped_txt(modes.size());
+  for (size_t m = 0; m < modes.size(); ++m)
+    dropped_txt[m] << "# what the " << modes[m] << " degradation did to GT instances (datasets/README.md)\n"
+                   << "# rgb_stamp gt_id:what:blur_px[:shrink_px] ... (what = missed | small-missed | shrunk | overpainted)\n";
 
   std::ostringstream rgb_txt, depth_txt, gt_txt, assoc_txt, moving_txt;
   const std::string header = "# dynref synth " + opt.preset + " seed " + std::to_string(opt.seed) + "\n";
@@ -218,7 +222,10 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
     WritePng(out + "/depth/" + depth_stamp + ".png", depth);
     gt_writer.Write(GtDetections(gt, world.scene().labels));
     WritePng(out + "/gt/motion/" + rgb_stamp + ".png", motion);
-    for (size_t m = 0; m < modes.size(); ++m) det_writers[m]->Write(degraders[m].Apply(i, gt));
+    for (size_t m = 0; m < modes.size(); ++m) {
+      det_writers[m]->Write(degraders[m].Apply(i, gt));
+      dropped_txt[m] << DegradeEventsLine(rgb_stamp, degraders[m].events());
+    }
 
     rgb_txt << rgb_stamp << " rgb/" << rgb_stamp << ".png\n";
     depth_txt << depth_stamp << " depth/" << depth_stamp << ".png\n";
@@ -241,6 +248,7 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
   AtomicWriteFile(out + "/synth.yaml", meta.str());
   AtomicWriteFile(out + "/gt/labels.yaml", LabelsYaml(world.scene()));
   AtomicWriteFile(out + "/gt/moving.txt", moving_txt.str());
+  for (size_t m = 0; m < modes.size(); ++m) AtomicWriteFile(out + "/gt/dropped-" + modes[m] + ".txt", dropped_txt[m].str());
   gt_writer.Finish();
   for (auto& w : det_writers) w->Finish();
   AtomicWriteFile(out + "/depth.txt", depth_txt.str());

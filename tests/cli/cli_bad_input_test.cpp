@@ -73,3 +73,21 @@ TEST_CASE("reproduce sgdo-table6 checks every argument before synthesising anyth
   CHECK_FALSE(FileExists(dir + "/work"));  // nothing was synthesised or run
   CHECK_FALSE(FileExists(dir + "/report.md"));
 }
+
+TEST_CASE("reproduce blur-table1/3 check every argument before synthesising anything") {
+  const std::string dir = ScratchDir("cli_reproduce_blur_bad_args");
+  for (const std::string table : {"blur-table1", "blur-table3"}) {
+    const std::string base = "reproduce " + table + " --work " + Quote(dir + "/work") + " --out " +
+                             Quote(dir + "/report.md") + " --frames 30";
+    ExpectBadInput(base + " --sequences static_xyz,bogus", "--sequences: unknown preset 'bogus'");
+    ExpectBadInput(base + " --seeds 1,1", "--seeds: a seed is given twice");
+    ExpectBadInput(base + " --seeds 1,x", "--seeds: must be an integer in 0..");
+    ExpectBadInput(base + " --detections bogus", "--detections: unknown detection mode 'bogus'");
+    ExpectBadInput("reproduce " + table + " --frames 10 --work " + Quote(dir + "/work"),
+                   "--frames: need at least 30 frames, got 10");
+  }
+  ExpectBadInput("reproduce blur-table3 --frames 30 --work " + Quote(dir + "/work") + " --sweep walking_xyz,bogus",
+                 "--sweep: unknown preset 'bogus'");
+  CHECK_FALSE(FileExists(dir + "/work"));  // nothing was synthesised or run
+  CHECK_FALSE(FileExists(dir + "/report.md"));
+}

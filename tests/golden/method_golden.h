@@ -1,6 +1,6 @@
-// The golden run of a method (issues 6, 14, 16): synthesise `preset` (30 frames, seed 1, yolo-like
-// detections), run the method with golden/<name>/<config> at trace level full and diff the trace
-// against golden/<name>/trace.dtr with `dynref diff` (exact: no tolerance).
+// The golden run of a method (issues 6, 14, 15, 16): synthesise walking_xyz (30 frames, seed 1,
+// yolo-like detections unless told otherwise), run the method with golden/<name>/<config> at
+// trace level full and diff the trace against golden/<name>/trace.dtr with `dynref diff` (exact: no tolerance).
 // Regenerate (and say in the commit why the new numbers are right):
 //   DYNREF_UPDATE_GOLDEN=1 ctest -R 'golden_<method>:'
 #pragma once
@@ -15,14 +15,17 @@
 
 namespace dynref::test {
 
-inline void CheckMethodGolden(const std::string& method, const std::string& golden_dir, const std::string& config) {
+// blur / detections: seed 003's golden renders motion blur and uses sparseinst-like masks.
+inline void CheckMethodGolden(const std::string& method, const std::string& golden_dir, const std::string& config,
+                              bool blur = false, const std::string& detections = "yolo-like") {
   namespace fs = std::filesystem;
   const std::string dir = ScratchDir(method + "_golden");
   synth::SynthOptions so;
   so.preset = "walking_xyz";
   so.frames = 30;
   so.seed = 1;
-  so.detections = "yolo-like";
+  so.detections = detections;
+  so.blur = blur;
   so.out = dir + "/seq";
   synth::GenerateSequence(so);
 
@@ -32,7 +35,7 @@ inline void CheckMethodGolden(const std::string& method, const std::string& gold
   ro.method = method;
   ro.config_path = SourcePath(golden_dir + "/" + config);
   ro.trace_level = "full";
-  ro.detections_dir = so.out + "/detections/yolo-like";
+  ro.detections_dir = so.out + "/detections/" + detections;
   ro.progress = false;
   const RunResult r = RunSequence(ro);
   REQUIRE(r.exit_code == 0);

@@ -2,6 +2,11 @@
 // it by the documented kinds of error (datasets/README.md) and stay valid dynref-detections.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
 #include "io/mask_format.h"
 #include "io/sequence.h"
 #include "synth/degrade.h"
@@ -83,6 +88,78 @@ TEST_CASE("synth: documented degradation rates") {
   CHECK(y.miss_stay == Approx(0.7));
   CHECK(y.boundary_jitter_px == 4);
   CHECK(s.limb_drop == Approx(0.25));
-  CHECK(y.blur_miss_factor == Approx(3.0));
+  CHECK(y.blur_drop_per_px == Approx(0.015));
+  CHECK(s.blur_drop_max == Approx(0.3));
   CHECK_THROWS(synth::ProfileFor("rcnn"));
+}
+
+namespace {
+
+// A GT frame of one 60x120 person whose top-left corner is at (x, 100), over a static floor.
+synth::GtFrame PersonAt(int x, int frame) {
+  synth::GtFrame g;
+  g.stamp_text = std::to_string(frame);
+  g.instance_ids = cv::Mat::zeros(480, 640, CV_16U);
+  g.body_part = cv::Mat(480, 640, CV_8S, cv::Scalar(-1));
+  g.depth_m = cv::Mat(480, 640, CV_32F, cv::Scalar(3.0f));
+  g.instance_ids(cv::Rect(x, 100, 60, 120)).setTo(1);
+  g.depth_m(cv::Rect(x, 100, 60, 120)).setTo(1.5f);
+  return g;
+}
+
+struct Counts {
+  int missed = 0, shrunk = 0, detected = 0;
+};
+
+Counts RunDegrader(int speed_px, double exposure_frames) {
+  const std::map<int, synth::InstanceLabel> labels = {{1, {"person", 0, true}}};
+  synth::Degrader d(synth::ProfileFor("sparseinst-like"), labels, 7, exposure_frames);
+  Counts c;
+  for (int i = 0; i < 400; ++i) {
+    const int x = 20 + (speed_px * i) % 500;  // wraps: one jump back every ~500/speed frames
+    const FrameDetections f = d.Apply(i, PersonAt(x, i));
+    for (const auto& e : d.events()) {
+      c.missed += e.what == "missed";
+      c.shrunk += e.what == "shrunk";
+      if (e.what == "shrunk") CHECK(e.shrink_px == int(std::lround(0.5 * e.blur_px)));
+    }
+    c.detected += int(f.instances.size());
+  }
+  return c;
+}
+
+}  // namespace
+
+TEST_CASE("synth: under --blur fast instances are missed and shrunk more often, still ones never shrink") {
+  const Counts still = RunDegrader(0, 0.6), fast = RunDegrader(20, 0.6), no_blur = RunDegrader(20, 0.0);
+  INFO("still missed " << still.missed << " shrunk " << still.shrunk << "; fast missed " << fast.missed << " shrunk "
+                       << fast.shrunk << "; no blur missed " << no_blur.missed << " shrunk " << no_blur.shrunk);
+  CHECK(still.shrunk == 0);
+  CHECK(no_blur.shrunk == 0);  // without blur the streak is 0: earlier behaviour
+  // L = 20 px/frame x 0.6 = 12 px: drop entry 1-(0.98)(0.88) = 0.14 (vs 0.02), shrink 0.6.
+  CHECK(fast.missed > 3 * still.missed);
+  CHECK(fast.shrunk > 100);
+  CHECK(fast.detected + fast.missed + 0 <= 400);
+}
+
+TEST_CASE("synth: gt/dropped-<mode>.txt lists what the degradation did, one line per frame") {
+  const std::string dir = test::ScratchDir("synth_dropped");
+  synth::SynthOptions o;
+  o.preset = "walking_xyz", o.frames = 12, o.out = dir, o.detections = "sparseinst-like", o.blur = true;
+  synth::GenerateSequence(o);
+  const Sequence seq = OpenSequence(dir);
+  std::ifstream in(dir + "/gt/dropped-sparseinst-like.txt");
+  REQUIRE(in.good());
+  std::string line;
+  int frames = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream s(line);
+    std::string stamp, event;
+    s >> stamp;
+    CHECK(stamp == seq.frames[size_t(frames)].rgb_stamp_text);
+    while (s >> event) CHECK(std::count(event.begin(), event.end(), ':') >= 2);
+    ++frames;
+  }
+  CHECK(frames == 12);
 }

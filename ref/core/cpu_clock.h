@@ -1,0 +1,15 @@
+// Thread CPU time in milliseconds (CLOCK_THREAD_CPUTIME_ID). Module and stage timings use it:
+// the run is single-threaded, so it measures the work done and not the load of the machine.
+// Timings go to run.json only, never into results or traces.
+#pragma once
+#include <ctime>
+
+namespace dynref {
+
+inline double ThreadCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
+
+}  // namespace dynref

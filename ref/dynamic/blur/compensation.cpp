@@ -1,0 +1,127 @@
+#include "dynamic/blur/compensation.h"
+
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
+#include <stdexcept>
+#include <tuple>
+
+namespace dynref::blur {
+
+void CompensationOptions::Check() const {
+  if (!(r_threshold > 0 && r_threshold <= 1)) throw std::invalid_argument("r_threshold must be in (0, 1]");
+  if (history < 1 || history > 30) throw std::invalid_argument("history must be in 1..30");
+  if (!(iou_found > 0 && iou_found <= 1)) throw std::invalid_argument("iou_found must be in (0, 1]");
+  if (max_consecutive < 1) throw std::invalid_argument("max_consecutive must be >= 1");
+}
+
+cv::Point2d PredictCorner(const std::vector<CornerSample>& h, double t_c) {
+  if (h.empty()) throw std::invalid_argument("PredictCorner: empty history");
+  const double n = double(h.size());
+  double st = 0, stt = 0, sx = 0, sy = 0, sxt = 0, syt = 0;
+  for (const CornerSample& s : h) {
+    const double tau = s.t - t_c;  // centred time
+    st += tau, stt += tau * tau, sx += s.x, sy += s.y, sxt += s.x * tau, syt += s.y * tau;
+  }
+  const double den = n * stt - st * st;
+  // One sample, or all at the same time: no slope; copy the newest corner in place.
+  if (h.size() < 2 || !(std::abs(den) > 1e-18)) return {h.back().x, h.back().y};
+  const double k1 = (n * sxt - sx * st) / den, k2 = (n * syt - sy * st) / den;
+  const double b1 = (sx - k1 * st) / n, b2 = (sy - k2 * st) / n;
+  return {b1, b2};  // the line at tau = 0, i.e. at t_c
+}
+
+double BoxIou(const cv::Rect& a, const cv::Rect& b) {
+  const double i = (a & b).area(), u = double(a.area()) + double(b.area()) - i;
+  return u > 0 ? i / u : 0.0;
+}
+
+MissedSegmentationCompensator::MissedSegmentationCompensator(const CompensationOptions& options, cv::Size image_size)
+    : o_(options), size_(image_size) {
+  o_.Check();
+}
+
+CompensationResult MissedSegmentationCompensator::Process(double t, const std::vector<PersonMask>& persons,
+                                                          bool enabled) {
+  CompensationResult res;
+  res.mask = cv::Mat::zeros(size_, CV_8U);
+  res.compensated = cv::Mat::zeros(size_, CV_8U);
+  for (const PersonMask& p : persons) res.mask |= p.mask;
+  res.area_now = cv::countNonZero(res.mask);
+  res.area_before = last_area_;
+
+  // Association (E3): greedy on box IoU, best pair first; ties by track then detection order.
+  std::vector<std::tuple<double, size_t, size_t>> pairs;
+  for (size_t a = 0; a < tracks_.size(); ++a)
+    for (size_t b = 0; b < persons.size(); ++b) {
+      const double iou = BoxIou(tracks_[a].box, persons[b].box);
+      if (iou >= o_.iou_found) pairs.emplace_back(iou, a, b);
+    }
+  std::stable_sort(pairs.begin(), pairs.end(), [](const auto& x, const auto& y) {
+    if (std::get<0>(x) != std::get<0>(y)) return std::get<0>(x) > std::get<0>(y);
+    return std::make_pair(std::get<1>(x), std::get<2>(x)) < std::make_pair(std::get<1>(y), std::get<2>(y));
+  });
+  std::vector<int> track_of_person(persons.size(), -1);
+  std::vector<bool> track_found(tracks_.size(), false);
+  for (const auto& [iou, a, b] : pairs) {
+    if (track_found[a] || track_of_person[b] >= 0) continue;
+    track_found[a] = true;
+    track_of_person[b] = int(a);
+  }
+
+  std::vector<Track> next;
+  for (size_t b = 0; b < persons.size(); ++b) {
+    Track tr;
+    if (track_of_person[b] >= 0) tr = tracks_[size_t(track_of_person[b])];
+    else tr.id = next_id_++;
+    tr.history.push_back({double(persons[b].box.x), double(persons[b].box.y), t});
+    while (int(tr.history.size()) > o_.history) tr.history.pop_front();
+    tr.mask = persons[b].mask;
+    tr.box = persons[b].box;
+    tr.consecutive = 0;
+    res.boxes.push_back(tr.box);
+    next.push_back(std::move(tr));
+  }
+
+  // r = A_c / A_{c-1} over all persons (E1); A_{c-1} = 0: undefined, no compensation.
+  if (last_area_ > 0) res.r = res.area_now / last_area_;
+  res.triggered = enabled && res.r >= 0 && res.r < o_.r_threshold;
+  if (res.triggered) {
+    const cv::Rect image(0, 0, size_.width, size_.height);
+    for (size_t a = 0; a < tracks_.size(); ++a) {
+      if (track_found[a] || tracks_[a].consecutive >= o_.max_consecutive) continue;
+      Track tr = tracks_[a];
+      const std::vector<CornerSample> h(tr.history.begin(), tr.history.end());
+      const cv::Point2d to = PredictCorner(h, t);
+      const int dx = int(std::lround(to.x - tr.box.x)), dy = int(std::lround(to.y - tr.box.y));
+      // Translate the last mask by (dx, dy), clipped to the image.
+      cv::Mat moved = cv::Mat::zeros(size_, CV_8U);
+      const cv::Rect src = image & (image - cv::Point(dx, dy));
+      if (src.area() > 0) tr.mask(src).copyTo(moved(src + cv::Point(dx, dy)));
+      if (cv::countNonZero(moved) == 0) continue;  // predicted out of the image: the person left
+      PastedMask pm;
+      pm.track = tr.id;
+      pm.samples = int(h.size());
+      pm.from = {double(tr.box.x), double(tr.box.y)};
+      pm.to = to;
+      const cv::Mat added = moved & ~res.mask;
+      pm.pasted_px = cv::countNonZero(added);
+      res.compensated |= added;
+      res.mask |= moved;
+      res.pasted.push_back(pm);
+      // E2: the history continues with the compensated state, so repeated drop-outs are bridged.
+      tr.mask = moved;
+      tr.box = cv::boundingRect(moved);
+      tr.history.push_back({to.x, to.y, t});
+      while (int(tr.history.size()) > o_.history) tr.history.pop_front();
+      ++tr.consecutive;
+      res.boxes.push_back(tr.box);
+      next.push_back(std::move(tr));
+    }
+  }
+  std::stable_sort(next.begin(), next.end(), [](const Track& x, const Track& y) { return x.id < y.id; });
+  tracks_ = std::move(next);
+  last_area_ = cv::countNonZero(res.mask);
+  return res;
+}
+
+}  // namespace dynref::blur

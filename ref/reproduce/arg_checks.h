@@ -1,0 +1,17 @@
+// Argument checks shared by the `dynref reproduce` tables: every argument is checked before
+// anything is synthesised, run or written (InputError naming the option), so a typo in the last
+// option does not cost minutes of work first.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace dynref::reproduce {
+
+// Known synthetic presets, none twice; `allow_empty` for optional lists (a sweep that may be off).
+void CheckPresetList(const std::vector<std::string>& presets, const std::string& option, bool allow_empty);
+// ideal | yolo-like | sparseinst-like
+void CheckDetectionMode(const std::string& mode);
+// --out is a file path whose folder can be created, --work a folder path.
+void CheckReportPaths(const std::string& out, const std::string& work);
+
+}  // namespace dynref::reproduce
