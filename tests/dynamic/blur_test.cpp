@@ -11,12 +11,8 @@
 #include "dynamic/blur/compensation.h"
 #include "dynamic/blur/depth_fusion.h"
 #include "dynamic/blur/keypoint_probability.h"
-#include "eval/trajectory_eval.h"
 #include "io/mask_layers.h"
-#include "io/trajectory.h"
-#include "pipeline/pipeline.h"
-#include "synth/synth.h"
-#include "test_support.h"
+#include "method_e2e.h"
 
 using namespace dynref;
 using namespace dynref::blur;
@@ -180,30 +176,9 @@ TEST_CASE("blur: k-d tree probability of a planted cluster, hand-computed") {
 
 TEST_CASE("blur end to end: blurred walking sequence, people rejected, ATE far below orb's") {
   const std::string dir = test::ScratchDir("blur_e2e");
-  synth::SynthOptions so;
-  so.preset = "walking_xyz";
-  so.frames = 60;
-  so.seed = 3;
-  so.blur = true;
-  so.detections = "sparseinst-like";
-  so.out = dir + "/seq";
-  synth::GenerateSequence(so);
-  auto run = [&](const std::string& method, const std::string& out) {
-    RunOptions o;
-    o.sequence = so.out;
-    o.out_dir = out;
-    o.method = method;
-    o.detections_dir = so.out + "/detections/sparseinst-like";
-    o.trace_level = "off";
-    o.progress = false;
-    REQUIRE(RunSequence(o).exit_code == 0);
-    const TumTrajectory gt = ReadTumTrajectory(so.out + "/groundtruth.txt");
-    const TumTrajectory est = ReadTumTrajectory(out + "/trajectory.txt");
-    REQUIRE(est.poses.size() == 60);
-    return ComputeAte(gt, est, AteOptions{}).stats.rmse;
-  };
-  const double orb = run("orb", dir + "/orb");
-  const double blur = run("blur", dir + "/blur");
+  const test::E2eSequence seq = test::MakeE2eSequence(dir, 60, 3, "sparseinst-like", true);
+  const double orb = test::RunE2eAte(seq, "orb", dir + "/orb");
+  const double blur = test::RunE2eAte(seq, "blur", dir + "/blur");
   INFO("ATE orb " << orb << " blur " << blur);
   CHECK(blur < 0.05);
   CHECK(blur < 0.5 * orb);

@@ -7,10 +7,7 @@
 
 #include "dynamic/mgd/correspondence.h"
 #include "dynamic/mgd/stages.h"
-#include "eval/trajectory_eval.h"
-#include "io/trajectory.h"
-#include "pipeline/pipeline.h"
-#include "synth/synth.h"
+#include "method_e2e.h"
 #include "test_support.h"
 
 using namespace dynref;
@@ -80,29 +77,9 @@ TEST_CASE("mgd P_pro cache follows replaced and culled map points") {
 
 TEST_CASE("mgd end to end: people rejected, ATE far below orb's on synthetic walking_xyz") {
   const std::string dir = test::ScratchDir("mgd_e2e");
-  synth::SynthOptions so;
-  so.preset = "walking_xyz";
-  so.frames = 60;
-  so.seed = 3;
-  so.detections = "yolo-like";
-  so.out = dir + "/seq";
-  synth::GenerateSequence(so);
-  auto run = [&](const std::string& method, const std::string& out) {
-    RunOptions o;
-    o.sequence = so.out;
-    o.out_dir = out;
-    o.method = method;
-    o.detections_dir = so.out + "/detections/yolo-like";
-    o.trace_level = "off";
-    o.progress = false;
-    REQUIRE(RunSequence(o).exit_code == 0);
-    const TumTrajectory gt = ReadTumTrajectory(so.out + "/groundtruth.txt");
-    const TumTrajectory est = ReadTumTrajectory(out + "/trajectory.txt");
-    REQUIRE(est.poses.size() == 60);
-    return ComputeAte(gt, est, AteOptions{}).stats.rmse;
-  };
-  const double orb = run("orb", dir + "/orb");
-  const double mgd = run("mgd", dir + "/mgd");
+  const test::E2eSequence seq = test::MakeE2eSequence(dir, 60, 3, "yolo-like", false);
+  const double orb = test::RunE2eAte(seq, "orb", dir + "/orb");
+  const double mgd = test::RunE2eAte(seq, "mgd", dir + "/mgd");
   INFO("ATE orb " << orb << " mgd " << mgd);
   CHECK(mgd < 0.03);
   CHECK(mgd < 0.25 * orb);
