@@ -48,7 +48,7 @@ void RegisterReproduceCommand(CLI::App& root, CommandList& out) {
     bt->add_option("--out", b->out, "Markdown report (default " + b->out + ")");
     bt->add_option("--work", b->work, "Working folder for sequences and runs (default " + b->work + ")");
     bt->add_option("--frames", b->frames, "Frames per synthetic sequence (default 300)");
-    bt->add_option("--seeds", *seeds, "Synthesis seeds, comma separated (default 1,2,3)")->delimiter(',');
+    bt->add_option("--seeds", *seeds, "Synthesis seeds: list and ranges, e.g. 1-5 or 1,2,7 (default 1-3)")->delimiter(',');
     bt->add_option("--detections", b->detections, "Synthetic detection mode (default sparseinst-like)");
     bt->add_option("--sequences", b->sequences, "Presets (default the table's)")->delimiter(',');
     if (table == "table3")
@@ -57,10 +57,7 @@ void RegisterReproduceCommand(CLI::App& root, CommandList& out) {
     bt->add_flag("--no-blur", *no_blur, "Render sharp frames (masks then drop as without blur)");
     bt->add_flag("--reuse", b->reuse, "Reuse sequences/runs of an earlier call with identical inputs");
     out.push_back({bt, [b, seeds, sweep, no_blur] {
-                     if (!seeds->empty()) {
-                       b->seeds.clear();
-                       for (const std::string& s : *seeds) b->seeds.push_back(ParseSeed(s, "--seeds"));
-                     }
+                     if (!seeds->empty()) b->seeds = ParseSeedList(*seeds, "--seeds");
                      b->sweep = *sweep;
                      if (b->sweep.size() == 1 && b->sweep[0] == "none") b->sweep.clear();
                      b->blur = !*no_blur;

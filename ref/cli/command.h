@@ -20,6 +20,8 @@ using CommandList = std::vector<Command>;
 // 2^64-1 into 18446744073709551615 without a word. Only plain decimal digits that fit uint64_t
 // are accepted; anything else is an InputError naming `option`.
 uint64_t ParseSeed(const std::string& text, const std::string& option);
+// Seeds given as a comma-separated list of seeds and inclusive ranges: "1,2,3", "1-5", "1-3,7".
+std::vector<uint64_t> ParseSeedList(const std::vector<std::string>& items, const std::string& option);
 
 // Every registrar adds its subcommand(s) under `root` and appends the leaves to `out`.
 void RegisterAllCommands(CLI::App& root, CommandList& out);

@@ -45,4 +45,20 @@ uint64_t ParseSeed(const std::string& text, const std::string& option) {
   return v;
 }
 
+std::vector<uint64_t> ParseSeedList(const std::vector<std::string>& items, const std::string& option) {
+  std::vector<uint64_t> out;
+  for (const std::string& item : items) {
+    const size_t dash = item.find('-');
+    if (dash == std::string::npos) {
+      out.push_back(ParseSeed(item, option));
+      continue;
+    }
+    const uint64_t a = ParseSeed(item.substr(0, dash), option), b = ParseSeed(item.substr(dash + 1), option);
+    if (a > b) throw InputError(option, "range '" + item + "' runs backwards");
+    if (b - a >= 1000) throw InputError(option, "range '" + item + "' holds more than 1000 seeds");
+    for (uint64_t s = a; s <= b; ++s) out.push_back(s);
+  }
+  return out;
+}
+
 }  // namespace dynref::cli

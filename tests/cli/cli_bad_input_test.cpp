@@ -82,6 +82,8 @@ TEST_CASE("reproduce blur-table1/3 check every argument before synthesising anyt
     ExpectBadInput(base + " --sequences static_xyz,bogus", "--sequences: unknown preset 'bogus'");
     ExpectBadInput(base + " --seeds 1,1", "--seeds: a seed is given twice");
     ExpectBadInput(base + " --seeds 1,x", "--seeds: must be an integer in 0..");
+    ExpectBadInput(base + " --seeds 3-1", "--seeds: range '3-1' runs backwards");
+    ExpectBadInput(base + " --seeds 1-3,2", "--seeds: a seed is given twice");
     ExpectBadInput(base + " --detections bogus", "--detections: unknown detection mode 'bogus'");
     ExpectBadInput("reproduce " + table + " --frames 10 --work " + Quote(dir + "/work"),
                    "--frames: need at least 30 frames, got 10");
