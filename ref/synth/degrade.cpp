@@ -83,8 +83,10 @@ cv::Mat JitterBoundary(const cv::Mat& mask, int jitter_px, uint32_t key, Rng& rn
 void BoxFromMask(const cv::Mat& mask, int jitter, Rng& rng, DetectedInstance* d) {
   const cv::Rect r = cv::boundingRect(mask);
   const auto j = [&] { return jitter > 0 ? double(rng.UniformInt(-jitter, jitter)) : 0.0; };
-  d->x_min = std::max(0.0, r.x + j());
-  d->y_min = std::max(0.0, r.y + j());
+  // Jitter never pushes a box corner out of the image (a 1-px mask on the right edge jittered by
+  // +1 gave x_min = width > x_max, a record every reader rightly refuses).
+  d->x_min = std::clamp(r.x + j(), 0.0, double(mask.cols - 1));
+  d->y_min = std::clamp(r.y + j(), 0.0, double(mask.rows - 1));
   d->x_max = std::min(double(mask.cols - 1), std::max(d->x_min, r.x + r.width - 1 + j()));
   d->y_max = std::min(double(mask.rows - 1), std::max(d->y_min, r.y + r.height - 1 + j()));
 }

@@ -163,3 +163,26 @@ TEST_CASE("synth: gt/dropped-<mode>.txt lists what the degradation did, one line
   }
   CHECK(frames == 12);
 }
+
+TEST_CASE("synth: box jitter keeps every corner inside the image (a 1-row mask on the bottom edge)") {
+  // Found by `dynref reproduce blur-table1`: a shrunk person mask one row high on row 479 with
+  // box jitter +1 gave y_min = 480 > y_max = 479, a record the detections reader refuses.
+  const std::map<int, synth::InstanceLabel> labels = {{1, {"person", 0, true}}};
+  synth::DegradeProfile p = synth::ProfileFor("yolo-like");  // box jitter +-3 px
+  p.boundary_jitter_px = 0, p.miss_enter = 0, p.small_miss = 0, p.limb_drop = 0;  // keep the 1-row mask
+  synth::Degrader d(p, labels, 3, 0.0);
+  int detected = 0;
+  for (int i = 0; i < 100; ++i) {
+    synth::GtFrame g = PersonAt(0, i);
+    g.instance_ids.setTo(0);
+    g.instance_ids(cv::Rect(100, 479, 539, 1)).setTo(1);  // bottom row up to the right edge
+    for (const DetectedInstance& inst : d.Apply(i, g).instances) {
+      detected += inst.class_id == 0;
+      CHECK(inst.x_min <= inst.x_max);
+      CHECK(inst.y_min <= inst.y_max);
+      CHECK(inst.x_max <= 639);
+      CHECK(inst.y_max <= 479);
+    }
+  }
+  CHECK(detected >= 90);
+}
