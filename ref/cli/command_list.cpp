@@ -19,6 +19,7 @@ void RegisterSynthCommand(CLI::App& root, CommandList& out);
 
 void RegisterRunCommand(CLI::App& root, CommandList& out);
 void RegisterReproduceCommand(CLI::App& root, CommandList& out);
+void RegisterEnhanceCommand(CLI::App& root, CommandList& out);
 
 void RegisterAllCommands(CLI::App& root, CommandList& out) {
   RegisterVersionCommand(root, out);
@@ -31,6 +32,7 @@ void RegisterAllCommands(CLI::App& root, CommandList& out) {
   RegisterSynthCommand(root, out);
   RegisterRunCommand(root, out);
   RegisterReproduceCommand(root, out);
+  RegisterEnhanceCommand(root, out);
 }
 
 uint64_t ParseSeed(const std::string& text, const std::string& option) {

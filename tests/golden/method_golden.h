@@ -15,9 +15,11 @@
 
 namespace dynref::test {
 
-// blur / detections: seed 003's golden renders motion blur and uses sparseinst-like masks.
+// blur / detections: seed 003's golden renders motion blur and uses sparseinst-like masks;
+// low_light: seed 004's renders dark frames.
 inline void CheckMethodGolden(const std::string& method, const std::string& golden_dir, const std::string& config,
-                              bool blur = false, const std::string& detections = "yolo-like") {
+                              bool blur = false, const std::string& detections = "yolo-like",
+                              bool low_light = false) {
   namespace fs = std::filesystem;
   const std::string dir = ScratchDir(method + "_golden");
   synth::SynthOptions so;
@@ -26,6 +28,7 @@ inline void CheckMethodGolden(const std::string& method, const std::string& gold
   so.seed = 1;
   so.detections = detections;
   so.blur = blur;
+  so.low_light = low_light;  // seed 004's golden: dark, low-contrast frames
   so.out = dir + "/seq";
   synth::GenerateSequence(so);
 

@@ -1,0 +1,122 @@
+#include "dynamic/epi/enhance.h"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace dynref::epi {
+
+void EnhanceParams::Check() const {
+  if (!(s >= 0 && s < 0.5)) throw std::invalid_argument("s must be in [0, 0.5)");
+  if (window < 3 || window % 2 == 0) throw std::invalid_argument("window must be odd and >= 3");
+  if (!(alpha >= 0)) throw std::invalid_argument("alpha must be >= 0");
+  if (!(p > 0)) throw std::invalid_argument("p must be > 0");
+  if (!(e0 > 0)) throw std::invalid_argument("e0 must be > 0");
+  if (!(down > 0 && down < 1)) throw std::invalid_argument("down must be in (0, 1)");
+  if (!(w_ms >= 0 && w_ms <= 1)) throw std::invalid_argument("w_ms must be in [0, 1]");
+  if (!(clahe_clip > 0)) throw std::invalid_argument("clahe_clip must be > 0");
+  if (clahe_tiles < 1) throw std::invalid_argument("clahe_tiles must be >= 1");
+  if (!(edge_threshold > 0)) throw std::invalid_argument("edge_threshold must be > 0");
+}
+
+StretchResult CdfStretch(const cv::Mat& grey8, double s) {
+  CV_Assert(grey8.type() == CV_8U);
+  std::array<int64_t, 256> hist{};
+  for (int y = 0; y < grey8.rows; ++y) {
+    const uint8_t* r = grey8.ptr<uint8_t>(y);
+    for (int x = 0; x < grey8.cols; ++x) ++hist[r[x]];
+  }
+  const double n = double(grey8.total());
+  int lo = 0, hi = 255;
+  int64_t cum = 0;
+  bool have_lo = false, have_hi = false;
+  for (int g = 0; g < 256 && !(have_lo && have_hi); ++g) {
+    cum += hist[size_t(g)];
+    const double cdf = double(cum) / n;
+    if (!have_lo && cdf >= s) lo = g, have_lo = true;
+    if (!have_hi && cdf >= 1.0 - s) hi = g, have_hi = true;
+  }
+  StretchResult r;
+  r.lo = lo / 255.0;
+  r.hi = hi / 255.0;
+  grey8.convertTo(r.stretched, CV_32F, 1.0 / 255.0);
+  if (hi > lo) {
+    r.stretched = (r.stretched - r.lo) / (r.hi - r.lo);
+    cv::min(cv::max(r.stretched, 0.0), 1.0, r.stretched);
+  }
+  return r;
+}
+
+cv::Mat LocalWeightedEnhance(const cv::Mat& I, const EnhanceParams& p) {
+  CV_Assert(I.type() == CV_32F);
+  const cv::Size k(p.window, p.window);
+  cv::Mat mu, mu2;
+  cv::boxFilter(I, mu, CV_32F, k, cv::Point(-1, -1), true, cv::BORDER_REFLECT_101);
+  cv::boxFilter(I.mul(I), mu2, CV_32F, k, cv::Point(-1, -1), true, cv::BORDER_REFLECT_101);
+  cv::Mat out(I.size(), CV_32F);
+  for (int y = 0; y < I.rows; ++y) {
+    const float* i = I.ptr<float>(y);
+    const float* m = mu.ptr<float>(y);
+    const float* m2 = mu2.ptr<float>(y);
+    float* o = out.ptr<float>(y);
+    for (int x = 0; x < I.cols; ++x) {
+      const double sigma = std::sqrt(std::max(0.0, double(m2[x]) - double(m[x]) * m[x]));
+      const double d = double(i[x]) - m[x];
+      const double w = p.alpha * std::pow(std::abs(d) / (sigma + p.e0), p.p);
+      o[x] = float(std::clamp(m[x] + (1.0 + w) * d, 0.0, 1.0));
+    }
+  }
+  return out;
+}
+
+double EnhancementFitness(const cv::Mat& E, double edge_threshold) {
+  cv::Mat gx, gy;
+  cv::Sobel(E, gx, CV_32F, 1, 0, 3, 1, 0, cv::BORDER_REFLECT_101);
+  cv::Sobel(E, gy, CV_32F, 0, 1, 3, 1, 0, cv::BORDER_REFLECT_101);
+  double sum = 0;
+  int64_t edges = 0;
+  std::array<int64_t, 256> hist{};
+  for (int y = 0; y < E.rows; ++y) {
+    const float* a = gx.ptr<float>(y);
+    const float* b = gy.ptr<float>(y);
+    const float* e = E.ptr<float>(y);
+    for (int x = 0; x < E.cols; ++x) {
+      const double mag = std::sqrt(double(a[x]) * a[x] + double(b[x]) * b[x]);
+      sum += mag;
+      edges += mag > edge_threshold;
+      ++hist[size_t(std::clamp(int(e[x] * 255.0f + 0.5f), 0, 255))];
+    }
+  }
+  if (!(sum > std::exp(1.0)) || edges == 0) return -std::numeric_limits<double>::infinity();
+  const double n = double(E.total());
+  double entropy = 0;
+  for (int64_t h : hist)
+    if (h > 0) entropy -= (double(h) / n) * std::log2(double(h) / n);
+  return std::log(std::log(sum)) * (double(edges) / n) * entropy;
+}
+
+EnhanceResult Enhance(const cv::Mat& grey8, const EnhanceParams& p) {
+  EnhanceResult r;
+  const StretchResult st = CdfStretch(grey8, p.s);
+  r.lo = st.lo, r.hi = st.hi;
+  const cv::Mat full = LocalWeightedEnhance(st.stretched, p);
+  r.fitness = EnhancementFitness(full, p.edge_threshold);
+  cv::Mat small, small_e, up;
+  cv::resize(st.stretched, small, cv::Size(), p.down, p.down, cv::INTER_AREA);
+  small_e = LocalWeightedEnhance(small, p);
+  cv::resize(small_e, up, full.size(), 0, 0, cv::INTER_LINEAR);
+  const cv::Mat fused = p.w_ms * up + (1.0 - p.w_ms) * full;
+  cv::Mat fused8;
+  fused.convertTo(fused8, CV_8U, 255.0);
+  const cv::Ptr<cv::CLAHE> clahe = cv::createCLAHE(p.clahe_clip, cv::Size(p.clahe_tiles, p.clahe_tiles));
+  clahe->apply(fused8, r.grey8);
+  r.mean_in = cv::mean(grey8)[0] / 255.0;
+  r.mean_out = cv::mean(r.grey8)[0] / 255.0;
+  return r;
+}
+
+}  // namespace dynref::epi

@@ -1,0 +1,85 @@
+// epi.enhance: seed 004 Module A on every frame's grey image (enhance.h), (alpha, p) tuned once by
+// BOA on the first frame (butterfly.h, spec 004 E2) or fixed. Traced: the BOA best fitness per
+// iteration and the chosen (alpha, p); per frame I_lo, I_hi, the fitness and the mean grey before
+// and after.
+#include "core/error.h"
+#include "dynamic/epi/stages.h"
+
+namespace dynref::epi {
+
+EnhanceStageOptions EnhanceOptionsFromParams(const ParamMap& p) {
+  p.RequireKnownKeys({"s", "window", "alpha", "p", "e0", "down", "w_ms", "clahe_clip", "clahe_tiles",
+                      "edge_threshold", "optimise", "boa_population", "boa_iterations", "boa_switch_p",
+                      "boa_sensory_c", "boa_power_a", "boa_cauchy_scale", "alpha_max", "p_min", "p_max", "seed"});
+  EnhanceStageOptions o;
+  o.params.s = p.GetDouble("s");
+  o.params.window = int(p.GetInt("window"));
+  o.params.alpha = p.GetDouble("alpha");
+  o.params.p = p.GetDouble("p");
+  o.params.e0 = p.GetDouble("e0");
+  o.params.down = p.GetDouble("down");
+  o.params.w_ms = p.GetDouble("w_ms");
+  o.params.clahe_clip = p.GetDouble("clahe_clip");
+  o.params.clahe_tiles = int(p.GetInt("clahe_tiles"));
+  o.params.edge_threshold = p.GetDouble("edge_threshold");
+  o.optimise = p.GetBool("optimise");
+  o.boa.population = int(p.GetInt("boa_population"));
+  o.boa.iterations = int(p.GetInt("boa_iterations"));
+  o.boa.switch_p = p.GetDouble("boa_switch_p");
+  o.boa.sensory_c = p.GetDouble("boa_sensory_c");
+  o.boa.power_a = p.GetDouble("boa_power_a");
+  o.boa.cauchy_scale = p.GetDouble("boa_cauchy_scale");
+  o.alpha_max = p.GetDouble("alpha_max");
+  o.p_min = p.GetDouble("p_min");
+  o.p_max = p.GetDouble("p_max");
+  o.seed = uint64_t(p.GetInt("seed"));
+  try {
+    o.params.Check();
+    o.boa.Check();
+    if (!(o.alpha_max > 0)) throw std::invalid_argument("alpha_max must be > 0");
+    if (!(o.p_min > 0 && o.p_min < o.p_max)) throw std::invalid_argument("need 0 < p_min < p_max");
+  } catch (const std::invalid_argument& e) {
+    throw InputError(p.file, p.line, "stage epi.enhance: " + std::string(e.what()));
+  }
+  return o;
+}
+
+BoaResult OptimiseEnhancement(const cv::Mat& grey8, const EnhanceStageOptions& o, EnhanceParams* params, Rng& rng) {
+  const cv::Mat stretched = CdfStretch(grey8, params->s).stretched;
+  const Fitness fit = [&](const std::vector<double>& x) {
+    EnhanceParams q = *params;
+    q.alpha = x[0], q.p = x[1];
+    return EnhancementFitness(LocalWeightedEnhance(stretched, q), q.edge_threshold);
+  };
+  const BoaResult r = ButterflyOptimise(fit, {0.0, o.p_min}, {o.alpha_max, o.p_max}, o.boa, rng);
+  params->alpha = r.best[0];
+  params->p = r.best[1];
+  return r;
+}
+
+EnhanceStage::EnhanceStage(const ParamMap& p) : o_(EnhanceOptionsFromParams(p)), rng_(o_.seed, "epi.boa") {}
+
+void EnhanceStage::Run(StageContext& ctx) {
+  const Frame& f = ctx.frame.view();
+  trace::TraceWriter& tr = ctx.trace;
+  const std::string fid = "f" + std::to_string(f.index);
+  cv::Mat& grey = ctx.frame.grey_for_extraction();
+  if (o_.optimise && !tuned_) {
+    const BoaResult r = OptimiseEnhancement(grey, o_, &o_.params, rng_);
+    for (size_t it = 0; it < r.best_per_iteration.size(); ++it)
+      tr.ProbabilityUpdate("epi.boa", trace::EntityKind::kFrame, fid + ".it" + std::to_string(it), {}, 0.0,
+                           r.best_per_iteration[it]);
+    tr.ProbabilityUpdate("epi.boa", trace::EntityKind::kFrame, fid,
+                         {{"alpha", o_.params.alpha}, {"p", o_.params.p}, {"evaluations", double(r.evaluations)}}, 0.0,
+                         r.best_fitness);
+    tuned_ = true;
+  }
+  const EnhanceResult e = Enhance(grey, o_.params);
+  tr.ProbabilityUpdate(name(), trace::EntityKind::kFrame, fid,
+                       {{"I_lo", e.lo}, {"I_hi", e.hi}, {"alpha", o_.params.alpha}, {"p", o_.params.p},
+                        {"fitness", e.fitness}},
+                       e.mean_in, e.mean_out);
+  grey = e.grey8;
+}
+
+}  // namespace dynref::epi

@@ -1,0 +1,66 @@
+// Enhanced-epipolar SLAM (seed 004) stages; see register.cpp and README.md.
+//   epi.enhance  (kBeforeExtraction) Module A: the grey image ORB extraction sees is enhanced;
+//                (alpha, p) tuned once by butterfly optimisation on the first frame, or fixed.
+//   epi.vote     (kAfterExtraction)  Module C: static region outside prior-dynamic masks, relative
+//                pose from its LK pairs (RGB-D rigid RANSAC), F = K^-T [t]x R K^-1, epipolar
+//                distance of every in-mask keypoint, 60 % vote per mask, dynamic masks' keypoints
+//                excluded before any matching.
+// Module B (learned float descriptors + MNN2) is not built: the backbone matches ORB only.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/rng.h"
+#include "dynamic/epi/butterfly.h"
+#include "dynamic/epi/enhance.h"
+#include "dynamic/epi/mask_vote.h"
+#include "geometry/dynamic_mask.h"
+#include "geometry/lk_pairs.h"
+#include "geometry/rigid_ransac.h"
+#include "method/params.h"
+#include "method/stage.h"
+
+namespace dynref::epi {
+
+struct EnhanceStageOptions {
+  EnhanceParams params;
+  bool optimise = true;          // BOA on the first frame (spec 004 E2: once per sequence)
+  BoaOptions boa;
+  double alpha_max = 2.0, p_min = 0.25, p_max = 3.0;  // BOA search box (not stated)
+  uint64_t seed = 1;
+};
+EnhanceStageOptions EnhanceOptionsFromParams(const ParamMap& p);
+
+// Tunes (alpha, p) of `params` on one grey image by BOA; returns the result (params updated).
+BoaResult OptimiseEnhancement(const cv::Mat& grey8, const EnhanceStageOptions& o, EnhanceParams* params, Rng& rng);
+
+class EnhanceStage : public Stage {
+ public:
+  explicit EnhanceStage(const ParamMap& p);
+  std::string name() const override { return "epi.enhance"; }
+  Hook hook() const override { return Hook::kBeforeExtraction; }
+  void Run(StageContext& ctx) override;
+
+ private:
+  EnhanceStageOptions o_;
+  Rng rng_;
+  bool tuned_ = false;
+};
+
+class VoteStage : public Stage {
+ public:
+  explicit VoteStage(const ParamMap& p);
+  std::string name() const override { return "epi.vote"; }
+  Hook hook() const override { return Hook::kAfterExtraction; }
+  void Run(StageContext& ctx) override;
+
+ private:
+  geometry::DynamicMaskOptions mask_;
+  geometry::LkOptions lk_;
+  geometry::RigidRansacOptions pose_;
+  MaskVoteOptions vote_;
+  Rng rng_;
+};
+
+}  // namespace dynref::epi

@@ -1,0 +1,141 @@
+// epi.vote: seed 004 Module C (Sec. 3.3.1, spec 004 steps 5a-5e).
+//   a. S0 = image minus the prior-dynamic instance masks (Eq. (8)-(9)); A_s = keypoints in S0.
+//   b. Matches k-1 <-> k: every keypoint tracked back into k-1 by Lucas-Kanade (geometry/lk_pairs,
+//      as sgdo), pruned at the border and by patch SAD; relative pose (R, t) from the A_s pairs with
+//      depth in both frames (RGB-D rigid RANSAC, geometry/rigid_ransac: "estimated assuming all
+//      points static"); Eq. (12) F = K^-T [t]x R K^-1 (geometry::FundamentalFromPose).
+//   c. Eq. (14): D = |A u + B v + C| / sqrt(A^2 + B^2) of every tracked in-mask keypoint, l = F p_(k-1).
+//   d. Each mask is dynamic when > 60 % of its matched keypoints have D > eps (mask_vote.h).
+//   e. Keypoints of dynamic masks are excluded (matched or not); the rest are the static set.
+// Without a previous frame or a pose (too few static pairs) every mask is dynamic (E8).
+#include <Eigen/Core>
+#include <cmath>
+#include <limits>
+#include <opencv2/calib3d.hpp>
+
+#include "core/error.h"
+#include "dynamic/epi/stages.h"
+#include "geometry/fundamental.h"
+
+namespace dynref::epi {
+
+VoteStage::VoteStage(const ParamMap& p) : rng_(uint64_t(p.GetInt("ransac_seed")), "epi.pose") {
+  p.RequireKnownKeys({"dynamic_classes", "min_confidence", "epi_threshold_px", "vote_ratio", "lk_window_px",
+                      "lk_max_level", "border_px", "patch_sad_max", "pose_inlier_px", "pose_iterations",
+                      "pose_min_inliers", "ransac_seed"});
+  mask_.dynamic_class_ids = p.GetCocoClassIds("dynamic_classes");
+  mask_.min_confidence = p.GetDouble("min_confidence");
+  mask_.dilation_kernel_px = 1;  // the paper uses the YOLO masks as they are
+  vote_.epi_threshold_px = p.GetDouble("epi_threshold_px");
+  vote_.vote_ratio = p.GetDouble("vote_ratio");
+  lk_.window_px = int(p.GetInt("lk_window_px"));
+  lk_.max_level = int(p.GetInt("lk_max_level"));
+  lk_.border_px = int(p.GetInt("border_px"));
+  lk_.patch_sad_max = p.GetDouble("patch_sad_max");
+  pose_.inlier_px = p.GetDouble("pose_inlier_px");
+  pose_.iterations = int(p.GetInt("pose_iterations"));
+  pose_.min_inliers = int(p.GetInt("pose_min_inliers"));
+  try {
+    mask_.Check();
+    vote_.Check();
+    lk_.Check();
+    pose_.Check();
+  } catch (const std::invalid_argument& e) {
+    throw InputError(p.file, p.line, "stage epi.vote: " + std::string(e.what()));
+  }
+}
+
+void VoteStage::Run(StageContext& ctx) {
+  const Frame& f = ctx.frame.view();
+  if (f.detections == nullptr)
+    throw InputError("--detections", "epi.vote needs instance masks for frame " + f.stamp_text + " (run with --detections DIR)");
+  const Camera& cam = ctx.camera;
+  trace::TraceWriter& tr = ctx.trace;
+  const std::string fid = "f" + std::to_string(f.index);
+  const geometry::DynamicMask m = geometry::BuildDynamicMask(*f.detections, cam.width, cam.height, mask_);
+
+  std::vector<int> candidates;  // non-excluded keypoints
+  for (int i = 0; i < int(f.N()); ++i)
+    if (!f.IsExcluded(i)) candidates.push_back(i);
+  std::vector<int> instance_of(candidates.size(), 0);
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    const cv::Point2f& p = f.keys[size_t(candidates[c])].pt;
+    instance_of[c] = m.InstanceAt(p.x, p.y);
+  }
+  std::vector<double> distance(candidates.size(), std::numeric_limits<double>::quiet_NaN());
+  const Frame* prev = ctx.previous;
+  bool have_pose = false;
+  int static_pairs = 0, pose_inliers = 0;
+  if (prev != nullptr && !prev->grey.empty() && !prev->depth_m.empty() && !candidates.empty() && !m.instance_ids.empty()) {
+    std::vector<cv::Point2f> pts;
+    for (int i : candidates) pts.push_back(f.keys[size_t(i)].pt);
+    std::vector<geometry::LkPair> pairs = geometry::TrackBackward(prev->grey, f.grey, pts, lk_);
+    for (size_t c = 0; c < pairs.size(); ++c) geometry::PrunePair(prev->grey, f.grey, instance_of[c] != 0, lk_, pairs[c]);
+    std::vector<cv::Point2f> prev_un(pairs.size()), cur_un(pairs.size());
+    for (size_t c = 0; c < pairs.size(); ++c) prev_un[c] = pairs[c].p_prev, cur_un[c] = pairs[c].p_cur;
+    if (cam.HasDistortion() && !pairs.empty()) {  // pose and F on undistorted pixels
+      const cv::Mat K(cam.K()), D = cam.DistCoeffs();
+      cv::undistortPoints(std::vector<cv::Point2f>(prev_un), prev_un, K, D, cv::noArray(), K);
+      cv::undistortPoints(std::vector<cv::Point2f>(cur_un), cur_un, K, D, cv::noArray(), K);
+    }
+    // b. static pairs with depth in both frames -> (R, t).
+    auto back = [&](const cv::Point2f& u, double z) {
+      return Eigen::Vector3d((u.x - cam.cx) / cam.fx * z, (u.y - cam.cy) / cam.fy * z, z);
+    };
+    std::vector<geometry::PointPair3D> pp;
+    for (size_t c = 0; c < pairs.size(); ++c) {
+      if (instance_of[c] != 0 || !pairs[c].usable_for_F()) continue;
+      const int x = int(std::lround(pairs[c].p_prev.x)), y = int(std::lround(pairs[c].p_prev.y));
+      if (x < 0 || y < 0 || x >= prev->depth_m.cols || y >= prev->depth_m.rows) continue;
+      const double z_prev = prev->depth_m.at<float>(y, x), z_cur = f.depth[size_t(candidates[c])];
+      if (!(z_prev > 0) || !(z_cur > 0)) continue;
+      pp.push_back({back(prev_un[c], z_prev), back(cur_un[c], z_cur), {cur_un[c].x, cur_un[c].y}});
+    }
+    static_pairs = int(pp.size());
+    const geometry::RigidRansacResult pose = geometry::RigidRansac(pp, cam.fx, cam.fy, cam.cx, cam.cy, pose_, rng_);
+    pose_inliers = pose.inlier_count;
+    if (pose.valid) {
+      have_pose = true;
+      Eigen::Matrix3d K;
+      K << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1;
+      const Eigen::Matrix3d F = geometry::FundamentalFromPose(K, pose.R, pose.t);
+      // c. every tracked in-mask keypoint (pruning concerns the pose only, as in sgdo).
+      for (size_t c = 0; c < pairs.size(); ++c) {
+        if (instance_of[c] == 0 || !pairs[c].tracked) continue;
+        distance[c] = geometry::EpipolarDistance(F, {prev_un[c].x, prev_un[c].y}, {cur_un[c].x, cur_un[c].y});
+        tr.ProbabilityUpdate("epi.epipolar", trace::EntityKind::kFeature, f.FeatureId(candidates[c]),
+                             {{"distance_px", distance[c]}, {"eps_px", vote_.epi_threshold_px},
+                              {"instance", double(instance_of[c])}},
+                             0.0, distance[c] > vote_.epi_threshold_px ? 1.0 : 0.0);
+      }
+    }
+  }
+  tr.ProbabilityUpdate("epi.pose", trace::EntityKind::kFrame, fid,
+                       {{"static_pairs", double(static_pairs)}, {"inliers", double(pose_inliers)}}, 0.0,
+                       have_pose ? 1.0 : 0.0);
+  // d. votes (without a pose: no distance, every mask dynamic, E8).
+  const std::map<int, MaskVote> votes = VoteMasks(instance_of, distance, m.instance_ids, vote_);
+  for (const auto& [id, v] : votes) {
+    const std::string iid = "i" + std::to_string(f.index) + "." + std::to_string(id);
+    tr.ProbabilityUpdate("epi.vote", trace::EntityKind::kInstanceMask, iid,
+                         {{"matched", double(v.matched)}, {"violating", double(v.violating)},
+                          {"vote_ratio", vote_.vote_ratio}},
+                         0.0, v.ratio);
+    tr.Decision(name(), trace::EntityKind::kInstanceMask, iid, !v.dynamic,
+                v.matched == 0 ? "no-matched-keypoint" : (v.dynamic ? "vote>ratio" : "vote<=ratio"));
+  }
+  // e. exclusion.
+  int64_t removed = 0;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    if (instance_of[c] == 0 || !votes.at(instance_of[c]).dynamic) continue;
+    ctx.frame.Exclude(candidates[c], name(), "dynamic-mask");
+    ++removed;
+  }
+  int64_t dynamic_masks = 0;
+  for (const auto& [id, v] : votes) dynamic_masks += v.dynamic;
+  tr.FrameCount(name(), "masks", int64_t(votes.size()));
+  tr.FrameCount(name(), "dynamic_masks", dynamic_masks);
+  tr.FrameCount(name(), "keypoints_removed", removed);
+}
+
+}  // namespace dynref::epi
