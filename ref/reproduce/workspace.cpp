@@ -32,7 +32,7 @@ std::string ReadText(const std::string& path) {
 
 std::string SynthKey(const SynthSpec& s, const std::string& preset) {
   return "preset " + preset + " frames " + std::to_string(s.frames) + " seed " + std::to_string(s.seed) +
-         " detections " + s.detections + (s.blur ? " blur" : "") + " dynref " + DYNREF_GIT_COMMIT + "\n";
+         " detections " + s.detections + (s.blur ? " blur" : "") + (s.low_light ? " low-light" : "") + " dynref " + DYNREF_GIT_COMMIT + "\n";
 }
 
 // Precision/recall of the features rejected by the config's stages against GT motion labels: a
@@ -89,9 +89,10 @@ std::string Workspace::EnsureSequence(const std::string& preset) {
   o.seed = spec_.seed;
   o.detections = spec_.detections;
   o.blur = spec_.blur;
+  o.low_light = spec_.low_light;
   o.out = dir;
   std::cerr << "reproduce: synth " << preset << " (" << spec_.frames << " frames, seed " << spec_.seed
-            << (spec_.blur ? ", blur" : "") << ")\n";
+            << (spec_.blur ? ", blur" : "") << (spec_.low_light ? ", low light" : "") << ")\n";
   synth::GenerateSequence(o);
   AtomicWriteFile(marker, SynthKey(spec_, preset));
   made_.insert(dir);

@@ -17,6 +17,7 @@ struct SynthSpec {
   uint64_t seed = 1;
   std::string detections = "yolo-like";  // synthetic detection mode (SEQ/detections/<mode>)
   bool blur = false;                     // dynref synth --blur (seed 003)
+  bool low_light = false;                // dynref synth --low-light (seed 004)
 };
 
 // One run of one variant on one sequence, evaluated.

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "dynamic/epi/butterfly.h"
 #include "dynamic/epi/enhance.h"
@@ -140,4 +141,24 @@ TEST_CASE("epi end to end: dynref enhance, and A + C on a low-light walking sequ
   const test::CommandResult bad = test::RunDynref("enhance " + so.out + " --out " + dir + "/other");
   CHECK(bad.exit_code == 2);
   CHECK(bad.output.find("not written by dynref enhance") != std::string::npos);
+}
+
+TEST_CASE("epi reproduce: epi-table2 end to end on 10 frames, paper rows beside ours") {
+  const std::string dir = test::ScratchDir("epi_reproduce");
+  const test::CommandResult bad = test::RunDynref("reproduce epi-table2 --frames 10 --gap 10 --work " + dir + "/w --out " + dir + "/t2.md");
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.output.find("--gap") != std::string::npos);
+  CHECK_FALSE(test::FileExists(dir + "/w"));
+  const test::CommandResult r =
+      test::RunDynref("reproduce epi-table2 --frames 10 --seeds 1 --work " + dir + "/w --out " + dir + "/t2.md");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  std::ifstream in(dir + "/t2.md");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string md = ss.str();
+  CHECK(md.find("| Light change | ORB + MNN2 | 1 |") != std::string::npos);  // one pair (0, 5) per sequence
+  CHECK(md.find("| Low light (both frames dark) | SIFT + BF |") != std::string::npos);
+  CHECK(md.find("| Light change | Zippypoint + MNN2 | 295 | 83.10 | 0.245 |") != std::string::npos);  // paper row
+  CHECK(md.find("| Low-texture environments | ORB + BF | 0 | 0.00 | 0.719 |") != std::string::npos);
 }

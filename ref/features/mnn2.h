@@ -1,0 +1,34 @@
+// "MNN2" matching of seed 004 (Sec. 3.2, spec 004 step 3, Eq. (4)-(7) reconstructed), for float
+// and binary descriptors:
+//   dist[i][j] = sum_k (D0[i,k] - D1[j,k])^2   (float rows L2-normalised first; binary rows:
+//                Hamming distance h, which for +-1 coding is sum_k (a_k - b_k)^2 / 4, so the
+//                ratio test is the same and tau is given in bits);
+//   i -> j1 (nearest), j2 (second): accept when dist[i][j1] < rho * dist[i][j2] and dist[i][j1] < tau;
+//   mutual: keep (i, j1) only when i is also the nearest of j1 among D0 (reverse NN).
+// Brute force in index order; ties keep the lower index (deterministic).
+#pragma once
+#include <opencv2/core.hpp>
+#include <vector>
+
+namespace dynref::features {
+
+struct Mnn2Options {
+  double ratio = 0.95;            // rho, paper Sec. 4.2
+  double tau_float = 1.5625;      // squared L2 on unit rows; Hamming-equivalent of 100 / 256 bits (spec 004 (c))
+  int tau_bits = 100;             // binary: ORB-SLAM TH_HIGH
+  bool ratio_test = true;
+  bool mutual = true;
+};
+
+struct DescriptorMatch {
+  int i = 0, j = 0;      // query row in D0, train row in D1
+  double distance = 0;   // squared L2 (float) or Hamming bits (binary)
+  double second = 0;     // second-nearest distance (+inf when D1 has one row)
+};
+
+// D0, D1: CV_32F (float) or CV_8U (binary, one bit string per row); same type and width.
+std::vector<DescriptorMatch> MatchMnn2(const cv::Mat& D0, const cv::Mat& D1, const Mnn2Options& o);
+// Plain nearest neighbour ("BF" in Table 2): every row of D0 to its nearest row of D1, no test.
+std::vector<DescriptorMatch> MatchNearest(const cv::Mat& D0, const cv::Mat& D1);
+
+}  // namespace dynref::features
