@@ -1,6 +1,9 @@
 #include "dense/dense_map.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <opencv2/calib3d.hpp>
 #include <stdexcept>
 
@@ -13,6 +16,7 @@ void DenseMapOptions::Check() const {
   if (!(min_depth_m >= 0 && max_depth_m > min_depth_m))
     throw std::invalid_argument("min_depth_m/max_depth_m must satisfy 0 <= min < max");
   if (pixel_stride < 1) throw std::invalid_argument("pixel_stride must be >= 1");
+  if (!(context_margin_m > 0)) throw std::invalid_argument("context_margin_m must be > 0");
   sor.Check();
 }
 
@@ -101,7 +105,9 @@ PointCloud BackProjectKeyframe(const cv::Mat& bgr, const cv::Mat& depth_m, const
   return out;
 }
 
-DenseMap::DenseMap(const DenseMapOptions& options) : options_(options) { options_.Check(); }
+DenseMap::DenseMap(const DenseMapOptions& options) : options_(options), grid_(options.global_leaf_m) {
+  options_.Check();
+}
 
 KeyframeInsertStats DenseMap::AddKeyframe(const cv::Mat& bgr, const cv::Mat& depth_m,
                                           const cv::Mat& exclude, const cv::Mat& class_labels,
@@ -118,15 +124,49 @@ KeyframeInsertStats DenseMap::AddKeyframe(const cv::Mat& bgr, const cv::Mat& dep
   for (ColoredPoint p : voxel) {
     const Eigen::Vector3d w = R * Eigen::Vector3d(p.x, p.y, p.z) + t;
     p.x = static_cast<float>(w.x()), p.y = static_cast<float>(w.y()), p.z = static_cast<float>(w.z());
-    cloud_.push_back(p);
+    (options_.incremental ? pending_ : cloud_).push_back(p);
   }
   ++keyframes_;
   if (++since_filter_ >= options_.filter_every_keyframes) {
-    st.sor_removed = FilterGlobal();
+    st.sor_removed = options_.incremental ? FilterPending() : FilterGlobal();
     st.global_filter_ran = true;
   }
-  st.map_points = static_cast<int64_t>(cloud_.size());
+  st.map_points = static_cast<int64_t>(options_.incremental ? grid_.size() + pending_.size() : cloud_.size());
   return st;
+}
+
+int64_t DenseMap::FilterPending() {
+  since_filter_ = 0;
+  if (pending_.empty()) return 0;
+  // The new points (one surface seen by several keyframes) are first merged into voxels of the
+  // global leaf; SOR judges these voxels, with the map's voxels around them (their bounding box
+  // grown by the margin) as neighbours; the raw points of the kept voxels then enter the global
+  // grid, so its centroids are exactly those of every accepted point.
+  VoxelGrid batch(options_.global_leaf_m);
+  batch.Add(pending_);
+  const PointCloud centroids = batch.Cloud();
+  std::array<float, 3> lo{centroids[0].x, centroids[0].y, centroids[0].z}, hi = lo;
+  for (const ColoredPoint& p : centroids) {
+    lo = {std::min(lo[0], p.x), std::min(lo[1], p.y), std::min(lo[2], p.z)};
+    hi = {std::max(hi[0], p.x), std::max(hi[1], p.y), std::max(hi[2], p.z)};
+  }
+  const float m = static_cast<float>(options_.context_margin_m);
+  for (int a = 0; a < 3; ++a) lo[size_t(a)] -= m, hi[size_t(a)] += m;
+  const std::vector<uint8_t> keep = StatisticalOutlierMask(centroids, grid_.CentroidsIn(lo, hi), options_.sor);
+  const std::vector<VoxelGrid::Key> keys = batch.Keys();
+  std::map<VoxelGrid::Key, bool> kept_voxel;
+  for (size_t i = 0; i < keys.size(); ++i) kept_voxel.emplace(keys[i], keep[i] != 0);
+  PointCloud kept;
+  kept.reserve(pending_.size());
+  int64_t removed = 0;
+  for (const ColoredPoint& p : pending_) {
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
+    if (kept_voxel.at(batch.KeyOf(p))) kept.push_back(p);
+    else ++removed;
+  }
+  grid_.Add(kept);
+  pending_.clear();
+  return removed;
 }
 
 int64_t DenseMap::FilterGlobal() {
@@ -139,6 +179,14 @@ int64_t DenseMap::FilterGlobal() {
 }
 
 int64_t DenseMap::Finish() {
+  if (options_.incremental) {
+    int64_t removed = 0;
+    if (options_.final_filter && since_filter_ > 0) removed = FilterPending();
+    grid_.Add(pending_);  // final_filter off: the last points enter unfiltered
+    pending_.clear();
+    cloud_ = grid_.Cloud();
+    return removed;
+  }
   if (!options_.final_filter || since_filter_ == 0) return 0;
   return FilterGlobal();
 }

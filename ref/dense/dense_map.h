@@ -2,7 +2,11 @@
 //   per new keyframe: back-project every pixel with valid depth that is not in the dynamic mask,
 //   colour = RGB (recognised static objects optionally recoloured by class, spec 001 E10),
 //   single-frame voxel downsample (leaf keyframe_leaf_m), transform to world, append;
-//   every `filter_every_keyframes` keyframes: SOR then voxel grid (global_leaf_m) on the whole map.
+//   every `filter_every_keyframes` keyframes: SOR then voxel grid (global_leaf_m) on the whole map
+//   (`incremental` = false, the paper's reading), or (`incremental` = true, issue 18) SOR on the
+//   points added since the last filter only (merged into global-leaf voxels first), with the map's
+//   voxels around them as neighbours, the raw points of kept voxels then accumulated into a global
+//   voxel grid that is never re-voxelised: cost per filter flat in map size.
 // Keyframe poses are taken as given at insertion (the paper's online mapping thread); later BA
 // corrections are not re-applied.
 #pragma once
@@ -26,6 +30,8 @@ struct DenseMapOptions {
   int pixel_stride = 1;            // 1 = every pixel (paper); > 1 only for fast tests
   bool colour_by_class = true;     // Fig. 8c: monitor green, chair red (E10)
   bool final_filter = true;        // one SOR + voxel pass at Finish() if keyframes were added
+  bool incremental = false;        // filter new points only (see above)
+  double context_margin_m = 0.1;   // incremental: map points within this of the new ones are SOR neighbours
   void Check() const;
 };
 
@@ -61,12 +67,16 @@ class DenseMap {
                                   const Camera& camera, const SE3& T_wc);
   // Final filter (if enabled and keyframes were added since the last one). Returns SOR removals.
   int64_t Finish();
+  // The map. Incremental mode: complete only after Finish() (the grid is not copied out per keyframe).
   const PointCloud& cloud() const { return cloud_; }
   int keyframes() const { return keyframes_; }
 
  private:
   int64_t FilterGlobal();
+  int64_t FilterPending();  // incremental mode
   DenseMapOptions options_;
+  VoxelGrid grid_;          // incremental mode: the global map
+  PointCloud pending_;      // incremental mode: world points since the last filter
   cv::Mat rays_;  // UndistortedRays of the run's camera (empty: no distortion)
   bool rays_ready_ = false;
   PointCloud cloud_;

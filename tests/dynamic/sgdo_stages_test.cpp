@@ -90,7 +90,7 @@ std::map<std::string, Param> DenseMapParams() {
           {"filter_every_keyframes", P("10")}, {"sor_k", P("8")}, {"sor_std_mult", P("1.0")},
           {"min_depth_m", P("0.1")}, {"max_depth_m", P("6")}, {"pixel_stride", P("1")},
           {"colour_by_class", P("true")}, {"output", P("dense_map.ply")},
-          {"ply_format", P("binary")}};
+          {"ply_format", P("binary")}, {"filter_mode", P("full")}, {"context_margin_m", P("0.1")}};
 }
 
 void SetupFrame(Frame& f, int index, const cv::Mat& grey, const cv::Mat& depth,

@@ -1,6 +1,8 @@
 // sgdo.densemap (map module, OnKeyFrame). seed 001, Sec. 3.6 / Fig. 5: on every new keyframe
 // the pixels with valid depth outside M are back-projected, voxelised (v_kf) and appended in
-// world coordinates; every N_map keyframes SOR + voxel grid (v_glob) run on the global cloud. The
+// world coordinates; every N_map keyframes SOR + voxel grid (v_glob) run on the global cloud
+// (filter_mode full) or on the points added since the last filter with the map around them as
+// neighbours (filter_mode incremental, dense/dense_map.h: cost flat in map size, issue 18). The
 // map is written as PLY into the run folder by Finish at the end of the run; a failed write ends
 // the run with an error in run.json.
 #include <utility>
@@ -13,7 +15,7 @@ namespace dynref::sgdo {
 DenseMapModule::DenseMapModule(const ParamMap& p, std::shared_ptr<Blackboard> board) : board_(std::move(board)) {
   p.RequireKnownKeys({"keyframe_leaf_m", "global_leaf_m", "filter_every_keyframes", "sor_k",
                       "sor_std_mult", "min_depth_m", "max_depth_m", "pixel_stride",
-                      "colour_by_class", "output", "ply_format"});
+                      "colour_by_class", "output", "ply_format", "filter_mode", "context_margin_m"});
   options_.keyframe_leaf_m = p.GetDouble("keyframe_leaf_m");
   options_.global_leaf_m = p.GetDouble("global_leaf_m");
   options_.filter_every_keyframes = static_cast<int>(p.GetInt("filter_every_keyframes"));
@@ -23,6 +25,11 @@ DenseMapModule::DenseMapModule(const ParamMap& p, std::shared_ptr<Blackboard> bo
   options_.max_depth_m = p.GetDouble("max_depth_m");
   options_.pixel_stride = static_cast<int>(p.GetInt("pixel_stride"));
   options_.colour_by_class = p.GetBool("colour_by_class");
+  const std::string mode = p.GetString("filter_mode");
+  if (mode != "full" && mode != "incremental")
+    throw InputError(p.Get("filter_mode").file, p.Get("filter_mode").line, "filter_mode must be full|incremental");
+  options_.incremental = mode == "incremental";
+  options_.context_margin_m = p.GetDouble("context_margin_m");
   output_ = p.GetString("output");
   const std::string fmt = p.GetString("ply_format");
   if (fmt == "ascii") format_ = dense::PlyFormat::kAscii;
