@@ -12,11 +12,15 @@
 namespace dynref::dense {
 namespace {
 
+// The k-d tree's view of context followed by query, without copying either cloud.
 struct CloudAdaptor {
-  const PointCloud& pts;
-  size_t kdtree_get_point_count() const { return pts.size(); }
+  const PointCloud& head;  // indices 0 .. head.size()-1
+  const PointCloud& tail;  // then these
+  const ColoredPoint& at(size_t i) const { return i < head.size() ? head[i] : tail[i - head.size()]; }
+  size_t kdtree_get_point_count() const { return head.size() + tail.size(); }
   float kdtree_get_pt(size_t i, size_t dim) const {
-    return dim == 0 ? pts[i].x : (dim == 1 ? pts[i].y : pts[i].z);
+    const ColoredPoint& p = at(i);
+    return dim == 0 ? p.x : (dim == 1 ? p.y : p.z);
   }
   template <class BBOX>
   bool kdtree_get_bbox(BBOX&) const { return false; }
@@ -104,18 +108,9 @@ void SorOptions::Check() const {
 
 std::vector<uint8_t> StatisticalOutlierMask(const PointCloud& query, const PointCloud& context, const SorOptions& options) {
   options.Check();
-  const size_t first = context.size();
-  PointCloud all;
-  if (context.empty()) {
-    all = query;
-  } else {
-    all.reserve(context.size() + query.size());
-    all.insert(all.end(), context.begin(), context.end());
-    all.insert(all.end(), query.begin(), query.end());
-  }
+  const CloudAdaptor adaptor{context, query};
   std::vector<uint8_t> keep(query.size(), 1);
-  if (all.size() <= static_cast<size_t>(options.k) || query.size() < 2) return keep;
-  CloudAdaptor adaptor{all};
+  if (adaptor.kdtree_get_point_count() <= static_cast<size_t>(options.k) || query.size() < 2) return keep;
   KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(10));
   tree.buildIndex();
   const size_t kq = static_cast<size_t>(options.k) + 1;  // + self
@@ -123,7 +118,7 @@ std::vector<uint8_t> StatisticalOutlierMask(const PointCloud& query, const Point
   std::vector<float> d2(kq);
   std::vector<double> mean_dist(query.size());
   for (size_t i = 0; i < query.size(); ++i) {
-    const ColoredPoint& p = all[first + i];
+    const ColoredPoint& p = query[i];
     const float q[3] = {p.x, p.y, p.z};
     const size_t found = tree.knnSearch(q, kq, idx.data(), d2.data());
     // Distances come sorted ascending; drop the smallest (self, distance 0). Summing the sorted

@@ -1,5 +1,6 @@
 #include "geometry/lk_pairs.h"
 
+#include <opencv2/calib3d.hpp>
 #include <opencv2/video/tracking.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -78,6 +79,17 @@ void PrunePair(const cv::Mat& prev_grey, const cv::Mat& cur_grey, bool in_mask,
     return;
   }
   pair.prune_reason = in_mask ? "in-mask" : "";
+}
+
+void UndistortedPairPixels(const Camera& camera, const std::vector<LkPair>& pairs, std::vector<cv::Point2f>* prev,
+                           std::vector<cv::Point2f>* cur) {
+  prev->clear();
+  cur->clear();
+  for (const LkPair& p : pairs) prev->push_back(p.p_prev), cur->push_back(p.p_cur);
+  if (!camera.HasDistortion() || pairs.empty()) return;
+  const cv::Mat K(camera.K()), D = camera.DistCoeffs();
+  cv::undistortPoints(std::vector<cv::Point2f>(*prev), *prev, K, D, cv::noArray(), K);
+  cv::undistortPoints(std::vector<cv::Point2f>(*cur), *cur, K, D, cv::noArray(), K);
 }
 
 }  // namespace dynref::geometry

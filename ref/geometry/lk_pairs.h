@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "io/camera.h"
+
 namespace dynref::geometry {
 
 struct LkOptions {
@@ -45,5 +47,10 @@ double PatchSad3x3(const cv::Mat& prev_grey, const cv::Mat& cur_grey, cv::Point2
 // edge), appearance (SAD > patch_sad_max), then `in_mask` (P2 in M). Sets prune_reason/patch_sad.
 void PrunePair(const cv::Mat& prev_grey, const cv::Mat& cur_grey, bool in_mask,
                const LkOptions& options, LkPair& pair);
+
+// Both ends of every pair on undistorted pixels (cv::undistortPoints, K kept) for F, epipolar
+// distances and poses; a copy of the pixels when the camera has no distortion (TUM fr3, synthetic).
+void UndistortedPairPixels(const Camera& camera, const std::vector<LkPair>& pairs, std::vector<cv::Point2f>* prev,
+                           std::vector<cv::Point2f>* cur);
 
 }  // namespace dynref::geometry

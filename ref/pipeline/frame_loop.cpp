@@ -17,7 +17,7 @@ namespace dynref {
 namespace {
 
 // Module timings use the thread's CPU clock (core/cpu_clock.h).
-double NowMs() { return ThreadCpuMs(); }
+const auto NowMs = ThreadCpuMs;
 
 }  // namespace
 

@@ -6,6 +6,15 @@
 
 namespace dynref::reproduce {
 
+MaskTruth& MaskTruth::operator+=(const MaskTruth& o) {
+  frames += o.frames, frames_with_missed += o.frames_with_missed, frames_triggered += o.frames_triggered;
+  person_px += o.person_px, missed_px += o.missed_px;
+  comp_px += o.comp_px, comp_recovered_px += o.comp_recovered_px, comp_false_px += o.comp_false_px;
+  depth_px += o.depth_px, depth_recovered_px += o.depth_recovered_px, depth_false_px += o.depth_false_px;
+  final_px += o.final_px, final_covered_px += o.final_covered_px;
+  return *this;
+}
+
 MaskTruth MeasureMaskTruth(const std::string& seq_dir, const std::string& mode, const blur::FusedMaskOptions& options) {
   const Sequence seq = OpenSequence(seq_dir);
   const std::string det_dir = seq_dir + "/detections/" + mode;

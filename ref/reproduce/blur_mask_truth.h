@@ -20,6 +20,7 @@ struct MaskTruth {
   int64_t comp_px = 0, comp_recovered_px = 0, comp_false_px = 0;     // pasted pixels
   int64_t depth_px = 0, depth_recovered_px = 0, depth_false_px = 0;  // depth-fused pixels added
   int64_t final_px = 0, final_covered_px = 0;  // M_sd (after dilation) and the person pixels it covers
+  MaskTruth& operator+=(const MaskTruth& o);      // sums (over seeds)
 };
 
 // Replays `options` on SEQ with SEQ/detections/<mode>; InputError if a file is missing or bad.

@@ -15,6 +15,7 @@
 #include "core/format.h"
 #include "core/version.h"
 #include "dynamic/blur/components.h"
+#include "eval/statistics.h"
 #include "pipeline/method_config.h"
 #include "reproduce/arg_checks.h"
 #include "reproduce/blur_mask_truth.h"
@@ -48,11 +49,7 @@ const std::vector<BlurVariant>& Variants(const std::string& table) {
 }
 
 MethodConfig VariantConfig(const BlurVariant& v) {
-  MethodConfig cfg = LoadMethodConfig(MethodConfigPath(v.config));
-  for (const std::string& name : v.drop)
-    cfg.stages.erase(std::remove_if(cfg.stages.begin(), cfg.stages.end(),
-                                    [&](const StageConfig& s) { return s.name == name; }),
-                     cfg.stages.end());
+  MethodConfig cfg = LoadConfigWithout(v.config, v.drop);
   // Runs here are traced at level frames (no overlays), so the per-frame mask files are not needed.
   for (const StageConfig& sc : cfg.stages)
     if (sc.name == "blur.mask")
@@ -78,22 +75,13 @@ struct Cell {
   std::vector<double> ms_extraction, ms_mask, ms_probability, ms_slam;  // per seed
 };
 
-double Mean(const std::vector<double>& v) {
-  if (v.empty()) return std::nan("");
-  double s = 0;
-  for (double x : v) s += x;
-  return s / double(v.size());
-}
-double Sd(const std::vector<double>& v) {  // population S.D. over seeds
-  if (v.size() < 2) return std::nan("");
-  const double m = Mean(v);
-  double s = 0;
-  for (double x : v) s += (x - m) * (x - m);
-  return std::sqrt(s / double(v.size()));
-}
+double Mean(const std::vector<double>& v) { return v.empty() ? std::nan("") : ComputeErrorStats(v).mean; }
+
+// Mean and population S.D. over seeds.
 std::string MeanSd(const std::vector<double>& v, int decimals = 4) {
   if (v.empty()) return "n/a";
-  return Num(Mean(v), decimals) + (v.size() > 1 ? " ± " + Num(Sd(v), decimals) : "");
+  const ErrorStats st = ComputeErrorStats(v);
+  return Num(st.mean, decimals) + (v.size() > 1 ? " ± " + Num(st.std, decimals) : "");
 }
 
 void AddRun(const RunSummary& s, Cell& c) {
@@ -110,12 +98,6 @@ void AddRun(const RunSummary& s, Cell& c) {
   const nlohmann::json st = j.value("timing_stages", nlohmann::json::object());
   c.ms_mask.push_back(st.value("blur.mask", 0.0));
   c.ms_probability.push_back(st.value("blur.probability", 0.0));
-}
-
-std::string SeedList(const std::vector<uint64_t>& seeds) {
-  std::string s;
-  for (uint64_t x : seeds) s += (s.empty() ? "" : ",") + std::to_string(x);
-  return s;
 }
 
 void CheckArgs(const BlurTableArgs& a) {
@@ -175,13 +157,7 @@ int RunBlurTable(const BlurTableArgs& a) {
       for (size_t v = 0; v < variants.size(); ++v)
         AddRun(ws.Run(seq, preset + "/" + variants[v].config, configs[v], variants[v].label), grid[preset][v]);
       if (a.table == "table3") {
-        const MaskTruth t = MeasureMaskTruth(seq, a.detections, mask_options);
-        MaskTruth& s = truth[preset];
-        s.frames += t.frames, s.frames_with_missed += t.frames_with_missed, s.frames_triggered += t.frames_triggered;
-        s.person_px += t.person_px, s.missed_px += t.missed_px;
-        s.comp_px += t.comp_px, s.comp_recovered_px += t.comp_recovered_px, s.comp_false_px += t.comp_false_px;
-        s.depth_px += t.depth_px, s.depth_recovered_px += t.depth_recovered_px, s.depth_false_px += t.depth_false_px;
-        s.final_px += t.final_px, s.final_covered_px += t.final_covered_px;
+        truth[preset] += MeasureMaskTruth(seq, a.detections, mask_options);
       }
     }
     if (a.table != "table3") continue;
@@ -204,13 +180,13 @@ int RunBlurTable(const BlurTableArgs& a) {
 
   std::ostringstream md;
   const std::string cmd = "dynref reproduce blur-" + a.table + " --frames " + std::to_string(a.frames) + " --seeds " +
-                          SeedList(a.seeds) + " --detections " + a.detections + (a.blur ? "" : " --no-blur");
+                          SeedListText(a.seeds) + " --detections " + a.detections + (a.blur ? "" : " --no-blur");
   md << "# Motion-blur SLAM (seed 003) " << (a.table == "table1" ? "Tables 1-2" : "Tables 3-4, Fig. 12")
      << " on synthetic sequences\n\n"
      << "Written by `" << cmd << "` (dynref " << DYNREF_VERSION << ", commit " << DYNREF_GIT_COMMIT
      << "). Do not edit by hand.\n\n"
      << "- Sequences: `dynref synth --preset P --frames " << a.frames << " --seed S" << (a.blur ? " --blur" : "")
-     << " --detections " << a.detections << "` for seeds S = " << SeedList(a.seeds)
+     << " --detections " << a.detections << "` for seeds S = " << SeedListText(a.seeds)
      << " (synthetic analogues of TUM fr3 and Bonn; the paper uses the real sequences). "
      << "Masks `SEQ/detections/" << a.detections << "/` drop and shrink instances with their blur streak "
      << "(datasets/README.md, \"Blur model\"), the failure the paper compensates.\n"
@@ -301,7 +277,7 @@ int RunBlurTable(const BlurTableArgs& a) {
       }
     }
   }
-  md << "\n## Per seed: ATE RMSE (m)\n\n| Sequence | Variant | seeds " << SeedList(a.seeds) << " |\n|---|---|---|\n";
+  md << "\n## Per seed: ATE RMSE (m)\n\n| Sequence | Variant | seeds " << SeedListText(a.seeds) << " |\n|---|---|---|\n";
   for (const std::string& preset : a.sequences)
     for (size_t v = 0; v < variants.size(); ++v) {
       md << "| " << preset << " | " << variants[v].label << " |";

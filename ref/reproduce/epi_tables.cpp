@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
 #include <set>
@@ -92,12 +91,6 @@ void CheckArgs(const EpiTableArgs& a) {
   CheckReportPaths(a.out, a.work);
 }
 
-std::string SeedText(const std::vector<uint64_t>& seeds) {
-  std::string s;
-  for (uint64_t x : seeds) s += (s.empty() ? "" : ",") + std::to_string(x);
-  return s;
-}
-
 }  // namespace
 
 int RunEpiTable(const EpiTableArgs& a) {
@@ -119,11 +112,11 @@ int RunEpiTable(const EpiTableArgs& a) {
   };
   std::ostringstream md;
   const std::string cmd = "dynref reproduce epi-" + a.table + " --frames " + std::to_string(a.frames) + " --seeds " +
-                          SeedText(a.seeds) + (a.table == "table2" ? " --gap " + std::to_string(a.gap) + " --features " +
+                          SeedListText(a.seeds) + (a.table == "table2" ? " --gap " + std::to_string(a.gap) + " --features " +
                                                                           std::to_string(a.features) : "");
   md << "# Enhanced-epipolar SLAM (seed 004) Table " << (a.table == "table1" ? "1" : "2")
      << " analogue on synthetic static scenes\n\nWritten by `" << cmd << "` (dynref " << DYNREF_VERSION << ", commit "
-     << DYNREF_GIT_COMMIT << "). Do not edit by hand. Seeds " << SeedText(a.seeds) << ", " << a.frames
+     << DYNREF_GIT_COMMIT << "). Do not edit by hand. Seeds " << SeedListText(a.seeds) << ", " << a.frames
      << " frames per sequence (`dynref synth --preset P --frames " << a.frames << " --seed S [--low-light] [--blur]`). "
      << "The paper's learned detector (improved ZippyPoint) is not available to dynref (issue 17 Module B): "
      << "OpenCV SIFT is the float-descriptor path here, the paper's values are printed beside for reference only.\n\n";
@@ -139,12 +132,10 @@ int RunEpiTable(const EpiTableArgs& a) {
       int64_t n = 0;
       for (uint64_t seed : a.seeds) {
         const Sequence s = sequence(seed, preset, low, false);
-        epi::EnhanceStageOptions o = enhance;
-        Rng rng(o.seed, "epi.boa");
+        epi::SequenceEnhancer enhancer(enhance);
         for (size_t k = 0; k < s.frames.size(); ++k) {
           const cv::Mat g = Grey(s, k);
-          if (k == 0 && o.optimise) epi::OptimiseEnhancement(g, o, &o.params, rng);
-          const cv::Mat e = epi::Enhance(g, o.params).grey8;
+          const cv::Mat e = enhancer.Enhance(g).grey8;
           sums[0] += double(Detect("ORB", g, 1000000).kp.size());
           sums[1] += double(Detect("ORB", e, 1000000).kp.size());
           sums[2] += double(Detect("SIFT", g, 0).kp.size());
@@ -220,21 +211,8 @@ int RunEpiTable(const EpiTableArgs& a) {
            << " | " << Num(st.ms / double(std::max<int64_t>(1, st.pairs)), 1) << " |\n";
       }
     md << "\n## Paper Table 2 (real image pairs, 500 features, RANSAC)\n\n| Typology | Algorithm | correct pairs | accuracy % | time s |\n|---|---|---|---|---|\n";
-    // Rows share their first cell (the image number), so the CSV is read line by line here.
-    std::ifstream csv(PaperTableDir() + "/004-table2.csv");
-    std::string line;
-    bool header = true;
-    while (std::getline(csv, line)) {
-      if (line.empty() || line[0] == '#') continue;
-      if (header) {
-        header = false;
-        continue;
-      }
-      std::vector<std::string> c;
-      std::stringstream ls(line);
-      for (std::string cell; std::getline(ls, cell, ',');) c.push_back(cell);
+    for (const std::vector<std::string>& c : paper.ordered)  // rows share their first cell (image number)
       if (c.size() >= 6) md << "| " << c[1] << " | " << c[2] << " | " << c[3] << " | " << c[4] << " | " << c[5] << " |\n";
-    }
   }
   AtomicWriteFile(a.out, md.str());
   std::cout << "reproduce: wrote " << a.out << "\n";

@@ -41,7 +41,9 @@ PaperTable ReadPaperTable(const std::string& path) {
       continue;
     }
     const auto cells = SplitCsv(line);
-    if (!cells.empty()) t.rows[cells[0]] = cells;
+    if (cells.empty()) continue;
+    t.rows[cells[0]] = cells;
+    t.ordered.push_back(cells);
   }
   return t;
 }

@@ -9,7 +9,8 @@ namespace dynref::reproduce {
 
 struct PaperTable {
   std::vector<std::string> header;
-  std::map<std::string, std::vector<std::string>> rows;  // first cell -> cells
+  std::map<std::string, std::vector<std::string>> rows;  // first cell -> cells (a repeated first cell: the last row)
+  std::vector<std::vector<std::string>> ordered;          // every row in file order (tables whose first column repeats)
   // The cell as a number; NaN when the row or column is missing.
   double Cell(const std::string& row, const std::string& column) const;
 };

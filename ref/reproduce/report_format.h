@@ -2,7 +2,9 @@
 #pragma once
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/format.h"
 
@@ -15,6 +17,12 @@ inline std::string Short(double v) {
   char buf[32];
   std::snprintf(buf, sizeof(buf), "%g", v);
   return buf;
+}
+// Seeds as given to --seeds: "1,2,3".
+inline std::string SeedListText(const std::vector<uint64_t>& seeds) {
+  std::string s;
+  for (uint64_t x : seeds) s += (s.empty() ? "" : ",") + std::to_string(x);
+  return s;
 }
 // 100 num / den with one decimal, "-" when den = 0.
 inline std::string Pct(double num, double den) { return den > 0 ? FormatFixed(100.0 * num / den, 1) : "-"; }

@@ -24,14 +24,7 @@ namespace fs = std::filesystem;
 
 namespace dynref::reproduce {
 
-MethodConfig Variant::Config() const {
-  MethodConfig cfg = LoadMethodConfig(MethodConfigPath(config_name));
-  for (const std::string& name : drop)
-    cfg.stages.erase(std::remove_if(cfg.stages.begin(), cfg.stages.end(),
-                                    [&](const StageConfig& s) { return s.name == name; }),
-                     cfg.stages.end());
-  return cfg;
-}
+MethodConfig Variant::Config() const { return LoadConfigWithout(config_name, drop); }
 
 const std::vector<Variant>& Table6Variants() {
   // (S+G+D+O) runs configs/sgdo.yaml without its dense map (Sec. 3.6 does not feed back into

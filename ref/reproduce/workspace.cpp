@@ -1,5 +1,6 @@
 #include "reproduce/workspace.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -69,6 +70,15 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::st
 }
 
 }  // namespace
+
+MethodConfig LoadConfigWithout(const std::string& config_name, const std::vector<std::string>& drop) {
+  MethodConfig cfg = LoadMethodConfig(MethodConfigPath(config_name));
+  for (const std::string& name : drop)
+    cfg.stages.erase(std::remove_if(cfg.stages.begin(), cfg.stages.end(),
+                                    [&](const StageConfig& s) { return s.name == name; }),
+                     cfg.stages.end());
+  return cfg;
+}
 
 Workspace::Workspace(std::string dir, SynthSpec spec, bool reuse)
     : dir_(std::move(dir)), spec_(std::move(spec)), reuse_(reuse) {}

@@ -6,11 +6,16 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "eval/statistics.h"
 #include "pipeline/method_config.h"
 
 namespace dynref::reproduce {
+
+// configs/<config_name>.yaml without the named stages / map modules (components that do not
+// influence tracking, e.g. a dense map, removed to save time). Configs as data: no YAML edited.
+MethodConfig LoadConfigWithout(const std::string& config_name, const std::vector<std::string>& drop);
 
 struct SynthSpec {
   int frames = 300;

@@ -156,14 +156,16 @@ FrameDetections Degrader::Apply(int frame_index, const GtFrame& gt) {
   // Blur streak per instance: centroid displacement since the previous frame (px/frame) times
   // the exposure in frame intervals; 0 without blur or without a previous frame.
   std::map<int, double> blur_px;
+  std::map<int, cv::Point2d> centroid;
+  const bool consecutive = blur_exposure_frames_ > 0 && previous_frame_ == frame_index - 1;
   for (const auto& [id, s] : stats) {
     const cv::Point2d c(s.x_sum / s.area, s.y_sum / s.area);
     const auto prev = centroid_.find(id);
-    if (blur_exposure_frames_ > 0 && previous_frame_ == frame_index - 1 && prev != centroid_.end())
+    if (consecutive && prev != centroid_.end())
       blur_px[id] = std::min(p_.blur_max_px, cv::norm(c - prev->second) * blur_exposure_frames_);
+    centroid.emplace(id, c);
   }
-  centroid_.clear();
-  for (const auto& [id, s] : stats) centroid_[id] = cv::Point2d(s.x_sum / s.area, s.y_sum / s.area);
+  centroid_ = std::move(centroid);
   previous_frame_ = frame_index;
   std::vector<Record> recs;
   std::vector<int> static_candidates;

@@ -48,8 +48,7 @@ EnhanceFilesResult EnhanceFiles(const std::string& input, const std::string& out
     items.emplace_back(fs::path(input).stem().string(), input);
   }
   StagingDirectory staging(target);
-  EnhanceStageOptions o = options;
-  Rng rng(o.seed, "epi.boa");
+  SequenceEnhancer enhancer(options);
   std::ostringstream log;
   log << "# dynref enhance (seed 004 Module A) of " << input << "\n";
   EnhanceFilesResult r;
@@ -63,15 +62,15 @@ EnhanceFilesResult EnhanceFiles(const std::string& input, const std::string& out
     }
     cv::Mat grey;
     cv::cvtColor(bgr, grey, cv::COLOR_BGR2GRAY);
-    if (k == 0 && o.optimise) {
-      const BoaResult b = OptimiseEnhancement(grey, o, &o.params, rng);
-      log << "# butterfly optimisation on the first image: " << b.evaluations << " evaluations, best fitness "
-          << FormatDouble17(b.best_fitness) << "\n";
-    }
+    BoaResult boa;
+    const EnhanceResult e = enhancer.Enhance(grey, &boa);
+    const EnhanceParams& q = enhancer.params();
+    if (boa.evaluations > 0)
+      log << "# butterfly optimisation on the first image: " << boa.evaluations << " evaluations, best fitness "
+          << FormatDouble17(boa.best_fitness) << "\n";
     if (k == 0)
-      log << "# alpha " << FormatDouble17(o.params.alpha) << " p " << FormatDouble17(o.params.p) << " s "
-          << FormatDouble17(o.params.s) << " window " << o.params.window << "\n# image I_lo I_hi fitness mean_in mean_out\n";
-    const EnhanceResult e = Enhance(grey, o.params);
+      log << "# alpha " << FormatDouble17(q.alpha) << " p " << FormatDouble17(q.p) << " s " << FormatDouble17(q.s)
+          << " window " << q.window << "\n# image I_lo I_hi fitness mean_in mean_out\n";
     WritePng(staging.dir() + "/" + items[k].first + ".png", e.grey8);
     log << items[k].first << ".png " << FormatDouble17(e.lo) << ' ' << FormatDouble17(e.hi) << ' '
         << FormatDouble17(e.fitness) << ' ' << FormatDouble17(e.mean_in) << ' ' << FormatDouble17(e.mean_out) << "\n";
@@ -81,8 +80,8 @@ EnhanceFilesResult EnhanceFiles(const std::string& input, const std::string& out
   PublishDirectory(staging.dir(), target, out, IsEnhanceOutput,
                    "exists and was not written by dynref enhance; refusing to overwrite");
   staging.Commit();
-  r.alpha = o.params.alpha;
-  r.p = o.params.p;
+  r.alpha = enhancer.params().alpha;
+  r.p = enhancer.params().p;
   return r;
 }
 

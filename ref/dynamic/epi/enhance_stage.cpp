@@ -57,27 +57,36 @@ BoaResult OptimiseEnhancement(const cv::Mat& grey8, const EnhanceStageOptions& o
   return r;
 }
 
-EnhanceStage::EnhanceStage(const ParamMap& p) : o_(EnhanceOptionsFromParams(p)), rng_(o_.seed, "epi.boa") {}
+EnhanceResult SequenceEnhancer::Enhance(const cv::Mat& grey8, BoaResult* tuned) {
+  if (tuned != nullptr) *tuned = BoaResult{};
+  if (o_.optimise && !tuned_) {
+    const BoaResult r = OptimiseEnhancement(grey8, o_, &o_.params, rng_);
+    if (tuned != nullptr) *tuned = r;
+    tuned_ = true;
+  }
+  return epi::Enhance(grey8, o_.params);
+}
+
+EnhanceStage::EnhanceStage(const ParamMap& p) : enhancer_(EnhanceOptionsFromParams(p)) {}
 
 void EnhanceStage::Run(StageContext& ctx) {
   const Frame& f = ctx.frame.view();
   trace::TraceWriter& tr = ctx.trace;
   const std::string fid = "f" + std::to_string(f.index);
   cv::Mat& grey = ctx.frame.grey_for_extraction();
-  if (o_.optimise && !tuned_) {
-    const BoaResult r = OptimiseEnhancement(grey, o_, &o_.params, rng_);
-    for (size_t it = 0; it < r.best_per_iteration.size(); ++it)
+  BoaResult boa;
+  const EnhanceResult e = enhancer_.Enhance(grey, &boa);
+  const EnhanceParams& q = enhancer_.params();
+  if (boa.evaluations > 0) {
+    for (size_t it = 0; it < boa.best_per_iteration.size(); ++it)
       tr.ProbabilityUpdate("epi.boa", trace::EntityKind::kFrame, fid + ".it" + std::to_string(it), {}, 0.0,
-                           r.best_per_iteration[it]);
+                           boa.best_per_iteration[it]);
     tr.ProbabilityUpdate("epi.boa", trace::EntityKind::kFrame, fid,
-                         {{"alpha", o_.params.alpha}, {"p", o_.params.p}, {"evaluations", double(r.evaluations)}}, 0.0,
-                         r.best_fitness);
-    tuned_ = true;
+                         {{"alpha", q.alpha}, {"p", q.p}, {"evaluations", double(boa.evaluations)}}, 0.0,
+                         boa.best_fitness);
   }
-  const EnhanceResult e = Enhance(grey, o_.params);
   tr.ProbabilityUpdate(name(), trace::EntityKind::kFrame, fid,
-                       {{"I_lo", e.lo}, {"I_hi", e.hi}, {"alpha", o_.params.alpha}, {"p", o_.params.p},
-                        {"fitness", e.fitness}},
+                       {{"I_lo", e.lo}, {"I_hi", e.hi}, {"alpha", q.alpha}, {"p", q.p}, {"fitness", e.fitness}},
                        e.mean_in, e.mean_out);
   grey = e.grey8;
 }

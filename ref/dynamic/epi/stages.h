@@ -35,6 +35,22 @@ EnhanceStageOptions EnhanceOptionsFromParams(const ParamMap& p);
 // Tunes (alpha, p) of `params` on one grey image by BOA; returns the result (params updated).
 BoaResult OptimiseEnhancement(const cv::Mat& grey8, const EnhanceStageOptions& o, EnhanceParams* params, Rng& rng);
 
+// Module A over a sequence (spec 004 E2): with `optimise`, (alpha, p) are tuned by BOA
+// (Rng(seed, "epi.boa")) on the first image enhanced, then kept for every later image. The
+// epi.enhance stage, `dynref enhance` and `reproduce epi-table1` all enhance through it.
+class SequenceEnhancer {
+ public:
+  explicit SequenceEnhancer(const EnhanceStageOptions& o) : o_(o), rng_(o.seed, "epi.boa") {}
+  // `tuned` (optional) receives the BOA result on the call that tuned (evaluations 0 otherwise).
+  EnhanceResult Enhance(const cv::Mat& grey8, BoaResult* tuned = nullptr);
+  const EnhanceParams& params() const { return o_.params; }
+
+ private:
+  EnhanceStageOptions o_;
+  Rng rng_;
+  bool tuned_ = false;
+};
+
 class EnhanceStage : public Stage {
  public:
   explicit EnhanceStage(const ParamMap& p);
@@ -43,9 +59,7 @@ class EnhanceStage : public Stage {
   void Run(StageContext& ctx) override;
 
  private:
-  EnhanceStageOptions o_;
-  Rng rng_;
-  bool tuned_ = false;
+  SequenceEnhancer enhancer_;
 };
 
 class VoteStage : public Stage {

@@ -11,7 +11,6 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <limits>
-#include <opencv2/calib3d.hpp>
 
 #include "core/error.h"
 #include "dynamic/epi/stages.h"
@@ -71,13 +70,8 @@ void VoteStage::Run(StageContext& ctx) {
     for (int i : candidates) pts.push_back(f.keys[size_t(i)].pt);
     std::vector<geometry::LkPair> pairs = geometry::TrackBackward(prev->grey, f.grey, pts, lk_);
     for (size_t c = 0; c < pairs.size(); ++c) geometry::PrunePair(prev->grey, f.grey, instance_of[c] != 0, lk_, pairs[c]);
-    std::vector<cv::Point2f> prev_un(pairs.size()), cur_un(pairs.size());
-    for (size_t c = 0; c < pairs.size(); ++c) prev_un[c] = pairs[c].p_prev, cur_un[c] = pairs[c].p_cur;
-    if (cam.HasDistortion() && !pairs.empty()) {  // pose and F on undistorted pixels
-      const cv::Mat K(cam.K()), D = cam.DistCoeffs();
-      cv::undistortPoints(std::vector<cv::Point2f>(prev_un), prev_un, K, D, cv::noArray(), K);
-      cv::undistortPoints(std::vector<cv::Point2f>(cur_un), cur_un, K, D, cv::noArray(), K);
-    }
+    std::vector<cv::Point2f> prev_un, cur_un;  // pose and F on undistorted pixels (depth looked up raw)
+    geometry::UndistortedPairPixels(cam, pairs, &prev_un, &cur_un);
     // b. static pairs with depth in both frames -> (R, t).
     auto back = [&](const cv::Point2f& u, double z) {
       return Eigen::Vector3d((u.x - cam.cx) / cam.fx * z, (u.y - cam.cy) / cam.fy * z, z);

@@ -8,7 +8,6 @@
 //   e. combination with M per `combination` (spec 001 E1, see coarse.h).
 // Coordinates: raw keypoint positions for LK; undistorted (cv::undistortPoints, K kept) for F
 // and D when the camera has distortion (TUM fr3 and synthetic: none).
-#include <opencv2/calib3d.hpp>
 
 #include "dynamic/sgdo/stages.h"
 
@@ -88,11 +87,8 @@ void CoarseStage::Run(StageContext& ctx) {
     for (size_t c = 0; c < candidates.size(); ++c)
       geometry::PrunePair(prev->grey, f.grey, inputs[candidates[c]].instance != 0, lk_, pairs[c]);
     if (ctx.camera.HasDistortion()) {  // F and D on undistorted coordinates
-      std::vector<cv::Point2f> a, b, ua, ub;
-      for (const geometry::LkPair& pr : pairs) a.push_back(pr.p_prev), b.push_back(pr.p_cur);
-      const cv::Mat K(ctx.camera.K()), D = ctx.camera.DistCoeffs();
-      cv::undistortPoints(a, ua, K, D, cv::noArray(), K);
-      cv::undistortPoints(b, ub, K, D, cv::noArray(), K);
+      std::vector<cv::Point2f> ua, ub;
+      geometry::UndistortedPairPixels(ctx.camera, pairs, &ua, &ub);
       for (size_t c = 0; c < pairs.size(); ++c) pairs[c].p_prev = ua[c], pairs[c].p_cur = ub[c];
     }
   }
