@@ -16,6 +16,6 @@ FRAMES=${DYNREF_DEMO_FRAMES:-150}
 mkdir -p "$OUT"
 build/dynref eval --gt datasets/real/trajectories/fr2_desk_groundtruth.txt \
   --est datasets/real/trajectories/fr2_desk_ORB.txt --json "$OUT/eval_fr2_desk.json"
-build/dynref reproduce sgdo-table6 --sequences walking_xyz --frames "$FRAMES" --seed 1 \
+build/dynref reproduce sgdo-table6 --sequences walking_xyz --frames "$FRAMES" --seeds 1 \
   --detections yolo-like --sensitivity none --work "$OUT/work" --out "$OUT/report.md"
 echo "demo: report $OUT/report.md, overlays and runs under $OUT/work"

@@ -9,6 +9,7 @@ PACKAGES=(
   libceres-dev               # pose-only optimisation and local BA
   libopenimageio-dev         # off-screen overlays, montages, plots
   catch2                     # tests (v2.13, catch2/catch.hpp)
+  snakemake                  # workflow/Snakefile: the paper-table matrix on many cores or a Slurm cluster (issue 19)
   libyaml-cpp-dev            # method configs with per-parameter sources
   nlohmann-json3-dev         # run.json / eval --json
   libcli11-dev               # subcommands, --help, unknown flags are errors

@@ -1,42 +1,85 @@
 // `dynref reproduce <table>`: argument parsing only; the tables live in ref/reproduce.
+#include <iostream>
 #include <memory>
 
 #include "cli/command.h"
+#include "core/error.h"
 #include "reproduce/blur_tables.h"
 #include "reproduce/epi_tables.h"
 #include "reproduce/sgdo_table6.h"
+#include "reproduce/sgdo_tables.h"
+#include "reproduce/table_list.h"
 
 namespace dynref::cli {
 
 void RegisterReproduceCommand(CLI::App& root, CommandList& out) {
   CLI::App* rep = root.add_subcommand("reproduce", "Reproduce a paper table end to end on synthetic data");
-  rep->require_subcommand(1);
+  rep->require_subcommand(0, 1);
+  auto list = std::make_shared<bool>(false);
+  rep->add_flag("--list", *list, "Name every table with a runnable row, its paper and its report");
+
+  // SGDO-SLAM (seed 001) Table 6, the ablation.
   auto a = std::make_shared<reproduce::Table6Args>();
-  auto seed = std::make_shared<std::string>(std::to_string(a->seed));
+  auto seeds6 = std::make_shared<std::vector<std::string>>();
+  auto seed6 = std::make_shared<std::string>();
   CLI::App* app = rep->add_subcommand(
-      "sgdo-table6", "SGDO-SLAM Table 6 (ablation): synth + orb + every sgdo variant + ATE + P/R + Markdown");
-  app->add_option("--out", a->out, "Markdown report (default reports/sgdo_table6.md)");
-  app->add_option("--work", a->work, "Working folder for sequences and runs (default dynref-work/sgdo-table6)");
+      "sgdo-table6", "SGDO-SLAM Table 6 (ablation): synth + orb + every sgdo variant + ATE + P/R + Markdown, over seeds");
+  app->add_option("--out", a->out, "Markdown report (default " + a->out + ")");
+  app->add_option("--work", a->work, "Working folder <work>/seed<S>/{seq,runs} (default " + a->work + ")");
   app->add_option("--frames", a->frames, "Frames per synthetic sequence (default 300)");
-  app->add_option("--seed", *seed, "Synthesis seed (default 1; 0..2^64-1)");
+  auto* seeds_opt = app->add_option("--seeds", *seeds6, "Synthesis seeds: list and ranges, e.g. 1-5 or 1,2,7 (default 1-3)")
+                        ->delimiter(',');
+  app->add_option("--seed", *seed6, "One synthesis seed (same as --seeds S)")->excludes(seeds_opt);
   app->add_option("--detections", a->detections,
                   "Synthetic detection mode: ideal | yolo-like | sparseinst-like (default yolo-like)");
   app->add_option("--sequences", a->sequences, "Presets (default the five of Table 6)")->delimiter(',');
+  app->add_option("--variants", a->variants, "Config names of the columns to run (default all: orb, sgdo_G, ..., sgdo_vote)")
+      ->delimiter(',');
   app->add_option("--sensitivity", a->sensitivity, "Presets for the eta/lambda sweep (default walking_xyz; 'none' = skip)")
       ->delimiter(',');
   app->add_flag("--reuse", a->reuse, "Reuse sequences/runs of an earlier call with identical inputs");
+  app->add_flag("--collect", a->collect,
+                "Only read: sequences and runs were made by dynref synth/run (workflow/Snakefile) in --work");
   app->add_flag("--no-overlay", a->no_overlay, "Skip the overlay montage");
-  out.push_back({app, [a, seed] {
-                   a->seed = ParseSeed(*seed, "--seed");
+  out.push_back({app, [a, seeds6, seed6] {
+                   if (!seed6->empty()) a->seeds = {ParseSeed(*seed6, "--seed")};
+                   if (!seeds6->empty()) a->seeds = ParseSeedList(*seeds6, "--seeds");
                    if (a->sensitivity.size() == 1 && a->sensitivity[0] == "none") a->sensitivity.clear();
                    return reproduce::RunSgdoTable6(*a);
                  }});
+
+  // SGDO-SLAM Tables 1, 2, 3, 4, 7: orb and sgdo from the same runs as Table 6.
+  for (const std::string& table : reproduce::SgdoMainTables()) {
+    auto t = std::make_shared<reproduce::SgdoTableArgs>();
+    t->table = table;
+    t->out = "reports/sgdo-" + table + ".md";
+    auto seeds = std::make_shared<std::vector<std::string>>();
+    const std::string name = "sgdo-" + table;
+    const std::string what = [&] {
+      for (const auto& e : reproduce::ReproducibleTables())
+        if (e.name == name) return e.what;
+      return std::string();
+    }();
+    CLI::App* st = rep->add_subcommand(name, "SGDO-SLAM " + table + ": " + what);
+    st->add_option("--out", t->out, "Markdown report (default " + t->out + ")");
+    st->add_option("--work", t->work, "Working folder <work>/seed<S>/{seq,runs}, shared with sgdo-table6 (default " + t->work + ")");
+    st->add_option("--frames", t->frames, "Frames per synthetic sequence (default 300)");
+    st->add_option("--seeds", *seeds, "Synthesis seeds: list and ranges (default 1-3)")->delimiter(',');
+    st->add_option("--detections", t->detections, "Synthetic detection mode (default yolo-like)");
+    st->add_option("--sequences", t->sequences, "Presets (default the five of the paper's TUM tables)")->delimiter(',');
+    st->add_flag("--reuse", t->reuse, "Reuse sequences/runs of an earlier call with identical inputs");
+    st->add_flag("--collect", t->collect, "Only read: sequences and runs were made by dynref synth/run (workflow/Snakefile)");
+    out.push_back({st, [t, seeds] {
+                     if (!seeds->empty()) t->seeds = ParseSeedList(*seeds, "--seeds");
+                     return reproduce::RunSgdoTable(*t);
+                   }});
+  }
 
   // Motion-blur SLAM (seed 003): Tables 1-2 and Tables 3-4 + Fig. 12.
   for (const std::string table : {"table1", "table3"}) {
     auto b = std::make_shared<reproduce::BlurTableArgs>();
     b->table = table;
-    b->out = "reports/blur_" + table + ".md";
+    b->out = "reports/blur-" + table + ".md";
     b->work = "dynref-work/blur";  // shared by both tables: with --reuse the second reuses sequences and blur runs
     b->sequences = reproduce::BlurTableDefaultSequences(table);
     auto seeds = std::make_shared<std::vector<std::string>>();
@@ -70,7 +113,7 @@ void RegisterReproduceCommand(CLI::App& root, CommandList& out) {
   for (const std::string table : {"table1", "table2"}) {
     auto e = std::make_shared<reproduce::EpiTableArgs>();
     e->table = table;
-    e->out = "reports/epi_" + table + ".md";
+    e->out = "reports/epi-" + table + ".md";
     auto seeds = std::make_shared<std::vector<std::string>>();
     CLI::App* et = rep->add_subcommand(
         "epi-" + table, table == "table1"
@@ -90,6 +133,16 @@ void RegisterReproduceCommand(CLI::App& root, CommandList& out) {
                      return reproduce::RunEpiTable(*e);
                    }});
   }
+
+  // `dynref reproduce --list` (the node itself; last, so a parsed table wins the dispatch in main).
+  out.push_back({rep, [list] {
+                   if (!*list)
+                     throw InputError("reproduce", "name a table (dynref reproduce --list shows them)");
+                   std::cout << "table\tpaper\treport\twhat\n";
+                   for (const auto& e : reproduce::ReproducibleTables())
+                     std::cout << e.name << "\t" << e.paper << "\t" << e.Report() << "\t" << e.what << "\n";
+                   return kExitOk;
+                 }});
 }
 
 }  // namespace dynref::cli

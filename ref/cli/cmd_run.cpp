@@ -7,6 +7,7 @@
 
 #include "cli/command.h"
 #include "core/error.h"
+#include "pipeline/method_config.h"
 #include "pipeline/pipeline.h"
 
 namespace dynref::cli {
@@ -15,6 +16,7 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
   CLI::App* app = root.add_subcommand("run", "Run the SLAM backbone (and a dynamic method) on a sequence");
   auto opts = std::make_shared<RunOptions>();
   auto frames = std::make_shared<std::string>();
+  auto sets = std::make_shared<std::vector<std::string>>();
   app->add_option("--sequence", opts->sequence, "TUM-layout sequence folder")->required();
   app->add_option("--out", opts->out_dir, "output folder (created)")->required();
   app->add_option("--method", opts->method, "method name: configs/<method>.yaml (default orb)");
@@ -24,14 +26,31 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
   app->add_option("--detector", opts->detector, "detection source spec (see dynref detect), e.g. gt:yolo-like");
   app->add_option("--camera", opts->camera, "camera preset or ORB-SLAM2 YAML (default: auto)");
   CLI::Option* frames_opt = app->add_option("--frames", *frames, "frames A, A-B or A- (0-based, inclusive; A- = to the end)");
+  app->add_option("--set", *sets,
+                  "STAGE.KEY=VALUE: change one stage parameter of the config for this run (repeatable), "
+                  "e.g. sgdo.depth.eta=0.05; recorded in run.json with source 'dynref run --set'");
   app->add_flag("--overlays", opts->overlays, "render RUN/overlays/overlay_<frame>.png after the run");
   app->add_flag("!--no-progress", opts->progress, "no progress line on stderr");
-  out.push_back({app, [opts, frames, frames_opt] {
+  out.push_back({app, [opts, frames, frames_opt, sets] {
                    // --frames here; everything else in RunOptions::Check before the run opens anything.
                    if (frames_opt->count()) {
                      if (frames->empty())
                        throw InputError("--frames", "empty value (give A, A-B or A-; omit --frames for all frames)");
                      opts->frames = ParseFrameRange(*frames);
+                   }
+                   if (!sets->empty()) {
+                     // The stage name has dots itself (sgdo.depth): the key is after the last one.
+                     auto cfg = std::make_shared<MethodConfig>(LoadMethodConfig(
+                         opts->config_path.empty() ? MethodConfigPath(opts->method) : opts->config_path));
+                     for (const std::string& item : *sets) {
+                       const size_t eq = item.find('=');
+                       const size_t dot = eq == std::string::npos ? std::string::npos : item.rfind('.', eq);
+                       if (eq == std::string::npos || dot == std::string::npos || dot == 0 || eq == dot + 1)
+                         throw InputError("--set", "'" + item + "' is not STAGE.KEY=VALUE (e.g. sgdo.depth.eta=0.05)");
+                       cfg->SetStageParam(item.substr(0, dot), item.substr(dot + 1, eq - dot - 1), item.substr(eq + 1),
+                                          "dynref run --set");
+                     }
+                     opts->config = cfg;
                    }
                    const RunResult r = RunSequence(*opts);
                    std::cout << "dynref run: " << r.frames << " frames, " << r.tracked << " tracked, " << r.lost

@@ -5,6 +5,7 @@
 #include <map>
 
 #include "core/format.h"
+#include "render/chart.h"
 
 namespace dynref::render {
 namespace {
@@ -12,20 +13,6 @@ namespace {
 // Categorical colours for stages (Okabe & Ito 2008, colour-blind safe), by sorted stage name.
 const Rgb kStageColours[] = {{230, 159, 0}, {86, 180, 233}, {0, 158, 115}, {213, 94, 0},
                              {0, 114, 178}, {204, 121, 167}, {240, 228, 66}, {0, 0, 0}};
-
-double NiceStep(double range, int max_ticks) {
-  const double raw = range / max_ticks;
-  const double p = std::pow(10.0, std::floor(std::log10(raw)));
-  for (double m : {1.0, 2.0, 5.0, 10.0})
-    if (m * p >= raw) return m * p;
-  return 10 * p;
-}
-
-std::string TickText(double v, double step) {
-  if (step >= 1) return std::to_string(static_cast<long long>(std::llround(v)));
-  const int decimals = std::clamp(static_cast<int>(std::ceil(-std::log10(step) - 1e-9)), 1, 6);
-  return FormatFixed(v, decimals);
-}
 
 struct Point {
   double x, y, before;

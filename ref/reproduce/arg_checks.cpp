@@ -26,6 +26,12 @@ void CheckPresetList(const std::vector<std::string>& presets, const std::string&
   }
 }
 
+void CheckSeedList(const std::vector<uint64_t>& seeds) {
+  if (seeds.empty()) throw InputError("--seeds", "no seed given");
+  if (std::set<uint64_t>(seeds.begin(), seeds.end()).size() != seeds.size())
+    throw InputError("--seeds", "a seed is given twice");
+}
+
 void CheckDetectionMode(const std::string& mode) {
   const std::vector<std::string> modes = {"ideal", "yolo-like", "sparseinst-like"};
   if (std::find(modes.begin(), modes.end(), mode) == modes.end())

@@ -2,6 +2,7 @@
 // anything is synthesised, run or written (InputError naming the option), so a typo in the last
 // option does not cost minutes of work first.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,8 @@ namespace dynref::reproduce {
 
 // Known synthetic presets, none twice; `allow_empty` for optional lists (a sweep that may be off).
 void CheckPresetList(const std::vector<std::string>& presets, const std::string& option, bool allow_empty);
+// At least one seed, none twice.
+void CheckSeedList(const std::vector<uint64_t>& seeds);
 // ideal | yolo-like | sparseinst-like
 void CheckDetectionMode(const std::string& mode);
 // --out is a file path whose folder can be created, --work a folder path.

@@ -75,15 +75,6 @@ struct Cell {
   std::vector<double> ms_extraction, ms_mask, ms_probability, ms_slam;  // per seed
 };
 
-double Mean(const std::vector<double>& v) { return v.empty() ? std::nan("") : ComputeErrorStats(v).mean; }
-
-// Mean and population S.D. over seeds.
-std::string MeanSd(const std::vector<double>& v, int decimals = 4) {
-  if (v.empty()) return "n/a";
-  const ErrorStats st = ComputeErrorStats(v);
-  return Num(st.mean, decimals) + (v.size() > 1 ? " ± " + Num(st.std, decimals) : "");
-}
-
 void AddRun(const RunSummary& s, Cell& c) {
   ++c.runs;
   c.tracked += s.tracked;
@@ -103,9 +94,7 @@ void AddRun(const RunSummary& s, Cell& c) {
 void CheckArgs(const BlurTableArgs& a) {
   if (a.table != "table1" && a.table != "table3") throw InputError("table", "unknown table '" + a.table + "'");
   if (a.frames < 30) throw InputError("--frames", "need at least 30 frames, got " + std::to_string(a.frames));
-  if (a.seeds.empty()) throw InputError("--seeds", "no seed given");
-  if (std::set<uint64_t>(a.seeds.begin(), a.seeds.end()).size() != a.seeds.size())
-    throw InputError("--seeds", "a seed is given twice");
+  CheckSeedList(a.seeds);
   CheckDetectionMode(a.detections);
   CheckPresetList(a.sequences, "--sequences", false);
   CheckPresetList(a.sweep, "--sweep", true);

@@ -17,7 +17,7 @@ namespace dynref::reproduce {
 
 struct BlurTableArgs {
   std::string table;              // "table1" | "table3"
-  std::string out;                // default reports/blur_<table>.md
+  std::string out;                // default reports/blur-<table>.md
   std::string work;               // default dynref-work/blur (both tables)
   int frames = 300;
   std::vector<uint64_t> seeds = {1, 2, 3};

@@ -85,9 +85,7 @@ void CheckArgs(const EpiTableArgs& a) {
   if (a.frames < 10) throw InputError("--frames", "need at least 10 frames, got " + std::to_string(a.frames));
   if (a.gap < 1 || a.gap >= a.frames) throw InputError("--gap", "must be in 1..frames-1");
   if (a.features < 10) throw InputError("--features", "must be >= 10");
-  if (a.seeds.empty()) throw InputError("--seeds", "no seed given");
-  if (std::set<uint64_t>(a.seeds.begin(), a.seeds.end()).size() != a.seeds.size())
-    throw InputError("--seeds", "a seed is given twice");
+  CheckSeedList(a.seeds);
   CheckReportPaths(a.out, a.work);
 }
 

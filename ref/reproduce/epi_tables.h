@@ -17,7 +17,7 @@ namespace dynref::reproduce {
 
 struct EpiTableArgs {
   std::string table;             // "table1" | "table2"
-  std::string out;               // default reports/epi_<table>.md
+  std::string out;               // default reports/epi-<table>.md
   std::string work = "dynref-work/epi";
   int frames = 60;
   int gap = 5;                   // table2: frame distance of a pair

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/format.h"
+#include "eval/statistics.h"
 
 namespace dynref::reproduce {
 
@@ -23,6 +24,14 @@ inline std::string SeedListText(const std::vector<uint64_t>& seeds) {
   std::string s;
   for (uint64_t x : seeds) s += (s.empty() ? "" : ",") + std::to_string(x);
   return s;
+}
+// Mean over seeds; NaN for none.
+inline double Mean(const std::vector<double>& v) { return v.empty() ? std::nan("") : ComputeErrorStats(v).mean; }
+// Mean and population S.D. over seeds ("n/a" for none, no S.D. for one).
+inline std::string MeanSd(const std::vector<double>& v, int decimals = 4) {
+  if (v.empty()) return "n/a";
+  const ErrorStats st = ComputeErrorStats(v);
+  return Num(st.mean, decimals) + (v.size() > 1 ? " ± " + Num(st.std, decimals) : "");
 }
 // 100 num / den with one decimal, "-" when den = 0.
 inline std::string Pct(double num, double den) { return den > 0 ? FormatFixed(100.0 * num / den, 1) : "-"; }

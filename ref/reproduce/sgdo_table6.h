@@ -16,24 +16,24 @@
 namespace dynref::reproduce {
 
 struct Table6Args {
-  std::string out = "reports/sgdo_table6.md";
-  std::string work = "dynref-work/sgdo-table6";
+  std::string out = "reports/sgdo-table6.md";
+  std::string work = "dynref-work/sgdo";  // <work>/seed<S>/{seq,runs}/ (the layout workflow/Snakefile writes; shared with sgdo-table1..7)
   int frames = 300;
-  uint64_t seed = 1;
+  std::vector<uint64_t> seeds = {1, 2, 3};
   std::string detections = "yolo-like";
   std::vector<std::string> sequences = {"walking_xyz", "walking_static", "walking_rpy",
                                         "walking_halfsphere", "sitting_static"};
   std::vector<std::string> sensitivity = {"walking_xyz"};
+  std::vector<std::string> variants;  // config names of Table6Variants() to run (empty = all)
   bool reuse = false;
+  bool collect = false;  // WorkMode::kCollect: read sequences and runs made by workflow/Snakefile
   bool no_overlay = false;
 };
 
-// One column of the table: a config (configs/<config_name>.yaml, minus the stages in `drop`),
+// One column of the table: a config (configs/<config_name>.yaml, run into runs/<preset>/<config_name>),
 // its label, and the paper's column prefix in Table 6 ("" = not in Table 6).
 struct Variant {
   std::string config_name, label, paper;
-  std::vector<std::string> drop;  // stages/map modules removed (e.g. the dense map: no effect on tracking)
-  std::string run_name;           // run folder name under runs/<preset>/
   MethodConfig Config() const;
 };
 const std::vector<Variant>& Table6Variants();
@@ -44,6 +44,9 @@ MethodConfig SensitivityConfig(double eta, double lambda);
 
 // Paper row names of a synthetic preset (Table 6, Table 1); empty when it has none.
 std::pair<std::string, std::string> PaperRows(const std::string& preset);
+
+// The sequence and run folders of one cell, as workflow/Snakefile writes them.
+std::string SeedWorkDir(const std::string& work, uint64_t seed);
 
 // Checks every argument first (InputError naming the option), then runs and writes the report.
 int RunSgdoTable6(const Table6Args& args);

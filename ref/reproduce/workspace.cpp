@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "core/atomic_file.h"
@@ -69,6 +70,67 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::st
   s.has_pr = true;
 }
 
+// kCollect: SEQ/synth.yaml (written by `dynref synth`) must state the spec's arguments.
+void CheckSynthesisedAs(const std::string& dir, const SynthSpec& spec, const std::string& preset) {
+  const std::string path = dir + "/synth.yaml";
+  if (!fs::exists(path))
+    throw InputError(dir, "missing: --collect reads sequences made by `dynref synth --preset " + preset +
+                              "` (run the workflow first)");
+  std::map<std::string, std::string> kv;
+  std::istringstream in(ReadText(path));
+  for (std::string line; std::getline(in, line);) {
+    const size_t colon = line.find(": ");
+    if (line.empty() || line[0] == '#' || colon == std::string::npos) continue;
+    kv[line.substr(0, colon)] = line.substr(colon + 2);
+  }
+  const std::vector<std::pair<std::string, std::string>> want = {
+      {"preset", preset},
+      {"frames", std::to_string(spec.frames)},
+      {"seed", std::to_string(spec.seed)},
+      {"blur", spec.blur ? "true" : "false"},
+      {"low_light", spec.low_light ? "true" : "false"}};
+  for (const auto& [key, value] : want)
+    if (kv[key] != value)
+      throw InputError(path, key + " is '" + kv[key] + "', this table needs '" + value + "'");
+  if (!fs::is_directory(dir + "/detections/" + spec.detections))
+    throw InputError(dir, "has no detections/" + spec.detections + " (dynref synth --detections " + spec.detections + ")");
+}
+
+// A config's JSON without its file path and the parameters' sources (values decide a run).
+nlohmann::json ConfigValues(nlohmann::json j) {
+  j.erase("config_file");
+  const auto strip = [](nlohmann::json& params) {
+    for (auto& [key, p] : params.items())
+      if (p.is_object()) p.erase("source");
+  };
+  if (j.contains("backbone")) strip(j["backbone"]);
+  if (j.contains("stages"))
+    for (auto& st : j["stages"])
+      if (st.contains("params")) strip(st["params"]);
+  return j;
+}
+
+// kCollect: RUN/run.json must be a finished run of `config` (its path and sources aside) at `trace_level`
+// on seq_dir with seq_dir/detections/<mode>.
+void CheckRunAs(const std::string& run_dir, const std::string& seq_dir, const MethodConfig& config,
+                const std::string& trace_level, const std::string& detections) {
+  const std::string path = run_dir + "/run.json";
+  if (!fs::exists(path))
+    throw InputError(run_dir, "missing: --collect reads runs made by `dynref run` (run the workflow first)");
+  const nlohmann::json j = nlohmann::json::parse(ReadText(path), nullptr, false);
+  if (j.is_discarded() || !j.is_object()) throw InputError(path, "not valid JSON");
+  if (j.value("end_state", std::string()).empty()) throw InputError(path, "run did not finish (no end_state)");
+  if (ConfigValues(j.value("config", nlohmann::json::object())) != ConfigValues(nlohmann::json::parse(config.ToJson())))
+    throw InputError(path, "ran a different config than " + config.path + " (method " + config.method + ")");
+  if (j.value("trace_level", std::string()) != trace_level)
+    throw InputError(path, "trace level is '" + j.value("trace_level", std::string()) + "', this table needs '" +
+                               trace_level + "'");
+  const auto canonical = [](const std::string& p) { return fs::weakly_canonical(fs::absolute(p)).string(); };
+  if (!config.stages.empty() && canonical(j.value("detections", std::string())) != canonical(seq_dir + "/detections/" + detections))
+    throw InputError(path, "used detections " + j.value("detections", std::string()) + ", this table needs " +
+                               seq_dir + "/detections/" + detections);
+}
+
 }  // namespace
 
 MethodConfig LoadConfigWithout(const std::string& config_name, const std::vector<std::string>& drop) {
@@ -80,11 +142,15 @@ MethodConfig LoadConfigWithout(const std::string& config_name, const std::vector
   return cfg;
 }
 
-Workspace::Workspace(std::string dir, SynthSpec spec, bool reuse)
-    : dir_(std::move(dir)), spec_(std::move(spec)), reuse_(reuse) {}
+Workspace::Workspace(std::string dir, SynthSpec spec, bool reuse, WorkMode mode)
+    : dir_(std::move(dir)), spec_(std::move(spec)), reuse_(reuse), mode_(mode) {}
 
 std::string Workspace::EnsureSequence(const std::string& preset) {
   const std::string dir = dir_ + "/seq/" + preset;
+  if (mode_ == WorkMode::kCollect) {
+    CheckSynthesisedAs(dir, spec_, preset);
+    return dir;
+  }
   const std::string marker = dir + "/.dynref-reproduce";
   const bool current = fs::exists(marker) && ReadText(marker) == SynthKey(spec_, preset);
   if (current && (reuse_ || made_.count(dir))) return dir;
@@ -115,16 +181,19 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
   s.method = config.method;
   s.label = label;
   s.run_dir = dir_ + "/runs/" + run_name;
-  const std::string marker = s.run_dir + "/.dynref-reproduce";
-  const std::string key = ReadText(seq_dir + "/.dynref-reproduce") + config.ToJson();
   const bool has_stages = !config.stages.empty();
-  if (!(reuse_ && fs::exists(marker) && ReadText(marker) == key)) {
+  const std::string trace_level = has_stages ? stage_trace_level_ : "frames";
+  const std::string marker = s.run_dir + "/.dynref-reproduce";
+  if (mode_ == WorkMode::kCollect) {
+    CheckRunAs(s.run_dir, seq_dir, config, trace_level, spec_.detections);
+  } else if (const std::string key = ReadText(seq_dir + "/.dynref-reproduce") + config.ToJson();
+             !(reuse_ && fs::exists(marker) && ReadText(marker) == key)) {
     RunOptions o;
     o.sequence = seq_dir;
     o.out_dir = s.run_dir;
     o.method = config.method;
     o.config = std::make_shared<const MethodConfig>(config);
-    o.trace_level = has_stages ? stage_trace_level_ : "frames";
+    o.trace_level = trace_level;
     o.detections_dir = seq_dir + "/detections/" + spec_.detections;
     o.progress = false;
     std::cerr << "reproduce: run " << run_name << "\n";
@@ -145,6 +214,26 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
     s.has_ate = true;
   } catch (const InputError& e) {
     s.ate_problem = e.what();
+  }
+  try {  // evaluate_rpe.py --fixed_delta --delta 1 (the read above keeps the last of equal stamps, as TUM)
+    const RpeResult rpe = ComputeRpe(gt, est, RpeOptions{});
+    s.rpe_trans = rpe.trans_m;
+    s.rpe_rot = rpe.rot_deg;
+    s.has_rpe = true;
+  } catch (const InputError&) {
+    // fewer than 2 pairs: the tables print n/a
+  }
+  const nlohmann::json run = nlohmann::json::parse(ReadText(s.run_dir + "/run.json"), nullptr, false);
+  if (!run.is_discarded() && run.contains("timing")) {
+    s.ms_slam = run["timing"]["slam"].value("mean_ms_per_frame", std::nan(""));
+    s.ms_total = run["timing"]["total"].value("mean_ms_per_frame", std::nan(""));
+    for (const auto& [module, t] : run["timing"].items())
+      if (t.is_object() && t.contains("mean_ms_per_frame")) s.ms_modules[module] = t["mean_ms_per_frame"].get<double>();
+    double stages = 0;
+    const nlohmann::json timing_stages = run.value("timing_stages", nlohmann::json::object());
+    for (const auto& [stage, ms] : timing_stages.items())
+      if (ms.is_number()) stages += ms.get<double>();
+    s.ms_modules["stages"] = stages;
   }
   if (has_stages && stage_trace_level_ == "full") {
     std::set<std::string> stages;

@@ -2,7 +2,9 @@
 // their arguments change) and runs (one per variant, reused with --reuse when the sequence and the
 // resolved config are unchanged), each marked with the key it was made from.
 #pragma once
+#include <cmath>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -34,19 +36,32 @@ struct RunSummary {
   ErrorStats ate;
   bool has_pr = false;  // precision/recall of rejected features (methods with stages)
   int64_t tp = 0, fp = 0, fn = 0, tn = 0;
+  bool has_rpe = false;     // RPE over 1 s (evaluate_rpe.py --fixed_delta --delta 1): m/s and deg/s
+  ErrorStats rpe_trans, rpe_rot;
+  double ms_slam = std::nan("");  // run.json timing: mean thread-CPU ms per frame (machine-dependent)
+  double ms_total = std::nan("");
+  std::map<std::string, double> ms_modules;  // every run.json timing module, + "stages" (sum of timing_stages)
+};
+
+// How a Workspace treats its folder.
+enum class WorkMode {
+  kMake,     // synthesise and run what is missing or out of date (with reuse: keep what is current)
+  kCollect,  // only read: every sequence and run must exist, made by `dynref synth` / `dynref run`
+             // (e.g. by workflow/Snakefile) with the same arguments and config, else InputError
 };
 
 class Workspace {
  public:
-  Workspace(std::string dir, SynthSpec spec, bool reuse);
+  Workspace(std::string dir, SynthSpec spec, bool reuse, WorkMode mode = WorkMode::kMake);
   const std::string& dir() const { return dir_; }
   const SynthSpec& spec() const { return spec_; }
   // SEQ = <dir>/seq/<preset>, synthesised unless current (InputError when the folder exists and
-  // was not written by reproduce).
+  // was not written by reproduce). kCollect: checks SEQ/synth.yaml against the spec instead.
   std::string EnsureSequence(const std::string& preset);
   // Runs `config` on seq_dir into <dir>/runs/<run_name> (trace level full when the config has
   // stages), then ATE against ground truth and, for configs with stages, the precision/recall of
   // the features they rejected (trace Decision kept=false of any stage) against SEQ/gt/moving.txt.
+  // kCollect: the run must exist, be finished and have run the same config (run.json "config").
   RunSummary Run(const std::string& seq_dir, const std::string& run_name, const MethodConfig& config,
                  const std::string& label);
   // "frames" keeps runs with stages at trace level frames (no precision/recall; for methods that
@@ -57,6 +72,7 @@ class Workspace {
   std::string dir_;
   SynthSpec spec_;
   bool reuse_;
+  WorkMode mode_;
   std::string stage_trace_level_ = "full";
   std::set<std::string> made_;  // sequences synthesised by this Workspace (never twice)
 };

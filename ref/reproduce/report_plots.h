@@ -1,0 +1,28 @@
+// PNG plots beside the reproduce reports (render/chart: deterministic bytes): trajectories seen
+// from above, ATE over time, ablation bars with the paper's values, runtime bars.
+#pragma once
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "render/chart.h"
+
+namespace dynref::reproduce {
+
+// (label, run folder) of runs on one sequence.
+using LabelledRuns = std::vector<std::pair<std::string, std::string>>;
+
+// Ground truth and every run's trajectory after its ATE alignment (SE(3), TUM associate), seen
+// along the ground truth's axis of least extent (the two others are the plot's axes).
+void PlotTrajectoriesTopView(const std::string& seq_dir, const LabelledRuns& runs, const std::string& title,
+                             const std::string& png);
+// Each run's ATE error per associated pose against seconds since the sequence's first stamp.
+void PlotAteOverTime(const std::string& seq_dir, const LabelledRuns& runs, const std::string& title,
+                     const std::string& png);
+// A grouped bar chart written as PNG (render::RenderBarChart).
+void PlotBars(const std::vector<std::string>& groups, const std::vector<render::BarSeries>& series,
+              const render::BarChartOptions& options, const std::string& png);
+// The lighter twin of a series colour (the paper's bars beside ours).
+render::Rgb Lighter(render::Rgb c);
+
+}  // namespace dynref::reproduce

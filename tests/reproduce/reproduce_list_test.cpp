@@ -1,0 +1,54 @@
+// `dynref reproduce --list` names every table, each name is a working subcommand, and
+// `dynref run --set` changes exactly the named stage parameter.
+#include <catch2/catch.hpp>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "reproduce/table_list.h"
+#include "test_support.h"
+
+using namespace dynref;
+
+TEST_CASE("reproduce --list names every table, and each is a subcommand with help") {
+  const test::CommandResult r = test::RunDynref("reproduce --list");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(!reproduce::ReproducibleTables().empty());
+  for (const auto& t : reproduce::ReproducibleTables()) {
+    CHECK(r.output.find(t.name + "\t" + t.paper + "\treports/" + t.name + ".md") != std::string::npos);
+    const test::CommandResult h = test::RunDynref("reproduce " + t.name + " --help");
+    INFO(t.name);
+    CHECK(h.exit_code == 0);
+    CHECK(h.output.find("--out") != std::string::npos);
+  }
+  const test::CommandResult none = test::RunDynref("reproduce");
+  CHECK(none.exit_code == 2);
+  CHECK(none.output.find("--list") != std::string::npos);
+}
+
+TEST_CASE("run --set changes one stage parameter and records it, a malformed --set is bad input") {
+  const std::string dir = test::ScratchDir("run_set");
+  REQUIRE(test::RunDynref("synth --preset walking_xyz --frames 30 --seed 1 --detections yolo-like --out " + dir + "/seq")
+              .exit_code == 0);
+  const std::string base = "run --sequence " + dir + "/seq --detections " + dir + "/seq/detections/yolo-like --no-progress " +
+                           "--config " + test::SourcePath("configs/sgdo_nodense.yaml");
+  const test::CommandResult r = test::RunDynref(base + " --out " + dir + "/run --set sgdo.depth.eta=0.05");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  std::ifstream in(dir + "/run/run.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  bool found = false;
+  for (const auto& st : j["config"]["stages"])
+    if (st["name"] == "sgdo.depth") {
+      CHECK(st["params"]["eta"]["value"] == "0.05");
+      CHECK(st["params"]["eta"]["source"] == "dynref run --set");
+      CHECK(st["params"]["lambda"]["source"] != "dynref run --set");
+      found = true;
+    }
+  CHECK(found);
+  test::ExpectBadInput(base + " --out " + dir + "/bad1 --set sgdo.depth.eta", "--set");
+  test::ExpectBadInput(base + " --out " + dir + "/bad2 --set eta=1", "--set");
+  test::ExpectBadInput(base + " --out " + dir + "/bad3 --set sgdo.depth.nope=1", "no parameter nope");
+  test::ExpectBadInput(base + " --out " + dir + "/bad4 --set sgdo.nostage.eta=1", "no stage sgdo.nostage");
+}
