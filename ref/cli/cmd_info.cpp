@@ -1,6 +1,8 @@
 // `dynref info SEQ`: what dynref reads from a TUM/Bonn/synthetic sequence folder.
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <set>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -10,6 +12,8 @@
 #include "core/format.h"
 #include "io/association.h"
 #include "io/sequence.h"
+#include "eval/statistics.h"
+#include "render/overlay.h"
 
 namespace dynref::cli {
 namespace {
@@ -66,6 +70,29 @@ int RunInfo(const InfoArgs& a) {
     << " " << Num(c.p1) << " " << Num(c.p2) << " " << Num(c.k3)
     << "\n  depth factor " << Num(c.depth_factor) << " units/m  bf "
     << Num(c.bf) << "  ThDepth " << Num(c.th_depth) << "\n";
+  // Synthetic ground-truth motion labels (SEQ/gt): how much of each frame moves.
+  if (std::filesystem::is_directory(seq.root + "/gt")) {
+    render::GroundTruthLabels gt(seq.root);
+    std::vector<double> share;
+    size_t with_motion = 0;
+    for (const auto& f : seq.frames) {
+      if (!gt.Has(f.rgb_stamp_text)) continue;
+      const cv::Mat ids = gt.Read(f.rgb_stamp_text).instance_ids;
+      const std::set<int> moving = gt.Moving(f.rgb_stamp_text);
+      if (ids.empty()) continue;
+      size_t n = 0;
+      for (int y = 0; y < ids.rows; ++y)
+        for (int x = 0; x < ids.cols; ++x) n += moving.count(ids.at<uint16_t>(y, x)) > 0;
+      share.push_back(100.0 * static_cast<double>(n) / static_cast<double>(ids.total()));
+      with_motion += n > 0;
+    }
+    if (!share.empty()) {
+      const ErrorStats st = ComputeErrorStats(share);
+      o << "moving pixels  " << FormatFixed(st.mean, 1) << " % mean, " << FormatFixed(st.median, 1) << " % median, "
+        << FormatFixed(st.max, 1) << " % max per frame; " << with_motion << " of " << share.size()
+        << " labelled frames show motion (SEQ/gt, moving.txt)\n";
+    }
+  }
   std::cout << o.str();
   return kExitOk;
 }

@@ -100,6 +100,7 @@ void RegisterReproduceCommand(CLI::App& root, CommandList& out) {
           ->delimiter(',');
     bt->add_flag("--no-blur", *no_blur, "Render sharp frames (masks then drop as without blur)");
     bt->add_flag("--reuse", b->reuse, "Reuse sequences/runs of an earlier call with identical inputs");
+    bt->add_flag("--collect", b->collect, "Only read: sequences and runs already in --work (made by an earlier call or dynref synth/run)");
     out.push_back({bt, [b, seeds, sweep, no_blur] {
                      if (!seeds->empty()) b->seeds = ParseSeedList(*seeds, "--seeds");
                      b->sweep = *sweep;

@@ -21,6 +21,7 @@
 #include "reproduce/blur_mask_truth.h"
 #include "reproduce/paper_table.h"
 #include "reproduce/report_format.h"
+#include "reproduce/report_plots.h"
 #include "reproduce/workspace.h"
 
 namespace fs = std::filesystem;
@@ -98,6 +99,7 @@ void CheckArgs(const BlurTableArgs& a) {
   CheckDetectionMode(a.detections);
   CheckPresetList(a.sequences, "--sequences", false);
   CheckPresetList(a.sweep, "--sweep", true);
+  if (a.collect && a.reuse) throw InputError("--collect", "--collect only reads; --reuse has no meaning with it");
   CheckReportPaths(a.out, a.work);
 }
 
@@ -138,13 +140,19 @@ int RunBlurTable(const BlurTableArgs& a) {
   std::map<std::string, MaskTruth> truth;      // preset -> summed over seeds
   std::map<std::string, std::vector<Cell>> dil, th;  // sweep preset -> per value
   for (const std::string& p : a.sequences) grid[p].resize(variants.size());
+  std::vector<RunSummary> all_runs;  // for the commits that made them
+  const auto add = [&](const RunSummary& s, Cell& c) {
+    all_runs.push_back(s);
+    AddRun(s, c);
+  };
   for (uint64_t seed : a.seeds) {
-    Workspace ws(a.work + "/seed" + std::to_string(seed), {a.frames, seed, a.detections, a.blur}, a.reuse);
+    Workspace ws(a.work + "/seed" + std::to_string(seed), {a.frames, seed, a.detections, a.blur}, a.reuse,
+                 a.collect ? WorkMode::kCollect : WorkMode::kMake);
     ws.set_stage_trace_level("frames");
     for (const std::string& preset : a.sequences) {
       const std::string seq = ws.EnsureSequence(preset);
       for (size_t v = 0; v < variants.size(); ++v)
-        AddRun(ws.Run(seq, preset + "/" + variants[v].config, configs[v], variants[v].label), grid[preset][v]);
+        add(ws.Run(seq, preset + "/" + variants[v].config, configs[v], variants[v].label), grid[preset][v]);
       if (a.table == "table3") {
         truth[preset] += MeasureMaskTruth(seq, a.detections, mask_options);
       }
@@ -157,12 +165,12 @@ int RunBlurTable(const BlurTableArgs& a) {
       for (size_t i = 0; i < dilations.size(); ++i) {
         MethodConfig cfg = full;
         cfg.SetStageParam("blur.mask", "dilation_size", std::to_string(dilations[i]), "reproduce blur-table3: sweep");
-        AddRun(ws.Run(seq, preset + "/dilation" + std::to_string(dilations[i]), cfg, "dilation"), dil[preset][i]);
+        add(ws.Run(seq, preset + "/dilation" + std::to_string(dilations[i]), cfg, "dilation"), dil[preset][i]);
       }
       for (size_t i = 0; i < thetas.size(); ++i) {
         MethodConfig cfg = full;
         cfg.SetStageParam("blur.probability", "theta", FormatDouble17(thetas[i]), "reproduce blur-table3: sweep");
-        AddRun(ws.Run(seq, preset + "/theta" + Short(thetas[i]), cfg, "theta"), th[preset][i]);
+        add(ws.Run(seq, preset + "/theta" + Short(thetas[i]), cfg, "theta"), th[preset][i]);
       }
     }
   }
@@ -174,6 +182,7 @@ int RunBlurTable(const BlurTableArgs& a) {
      << " on synthetic sequences\n\n"
      << "Written by `" << cmd << "` (dynref " << DYNREF_VERSION << ", commit " << DYNREF_GIT_COMMIT
      << "). Do not edit by hand.\n\n"
+     << "- Runs made by dynref commit " << RunCommits(all_runs) << ".\n"
      << "- Sequences: `dynref synth --preset P --frames " << a.frames << " --seed S" << (a.blur ? " --blur" : "")
      << " --detections " << a.detections << "` for seeds S = " << SeedListText(a.seeds)
      << " (synthetic analogues of TUM fr3 and Bonn; the paper uses the real sequences). "
@@ -265,6 +274,36 @@ int RunBlurTable(const BlurTableArgs& a) {
         md << "\n";
       }
     }
+  }
+  {  // Plot beside the report: ATE per sequence and variant (mean +- S.D. over seeds), paper lighter.
+    std::vector<render::BarSeries> series;
+    for (size_t v = 0; v < variants.size(); ++v) {
+      render::BarSeries s{variants[v].label, {}, {}, render::SeriesColour(v + 4)};
+      for (const std::string& preset : a.sequences) {
+        const std::vector<double>& r = grid[preset][v].rmse;
+        s.value.push_back(Mean(r));
+        s.error.push_back(r.size() > 1 ? ComputeErrorStats(r).std : std::nan(""));
+      }
+      series.push_back(s);
+    }
+    for (size_t v = 0; v < variants.size(); ++v) {
+      if (variants[v].paper.empty()) continue;
+      render::BarSeries s{"paper " + variants[v].paper, {}, {}, Lighter(render::SeriesColour(v + 4))};
+      for (const std::string& preset : a.sequences) {
+        const auto [table, row] = PaperRow(preset);
+        const PaperTable& pt = a.table == "table3" ? p3 : (table == "2" ? p2 : p1);
+        s.value.push_back(pt.Cell(row, variants[v].paper + " RMSE"));
+      }
+      series.push_back(s);
+    }
+    render::BarChartOptions bo;
+    bo.width = 1400;
+    bo.title = "ATE RMSE (mean +- S.D. over seeds " + SeedListText(a.seeds) + "), paper values lighter";
+    bo.y_label = "ATE RMSE [m]";
+    bo.log_y = true;
+    const std::string png = (report_dir / (fs::path(a.out).stem().string() + ".png")).string();
+    PlotBars(a.sequences, series, bo, png);
+    md << "\n## Plot\n\n![ATE per sequence](" << fs::path(png).filename().string() << ")\n";
   }
   md << "\n## Per seed: ATE RMSE (m)\n\n| Sequence | Variant | seeds " << SeedListText(a.seeds) << " |\n|---|---|---|\n";
   for (const std::string& preset : a.sequences)

@@ -26,6 +26,7 @@ struct BlurTableArgs {
   std::vector<std::string> sequences;  // default: the table's presets
   std::vector<std::string> sweep = {"walking_xyz"};  // table3: dilation/theta sweeps ('none' = skip)
   bool reuse = false;
+  bool collect = false;           // WorkMode::kCollect: only read sequences and runs already in --work
 };
 
 std::vector<std::string> BlurTableDefaultSequences(const std::string& table);

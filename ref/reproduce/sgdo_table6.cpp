@@ -229,10 +229,15 @@ int RunSgdoTable6(const Table6Args& a) {
     plots.push_back({"ATE over time, " + where, fs::path(stem + "_ate_time.png").filename().string()});
   }
 
+  std::vector<RunSummary> all_runs;
+  for (const auto& m : {&results, &sens})
+    for (const auto& [preset, cells] : *m)
+      for (const auto& runs : cells) all_runs.insert(all_runs.end(), runs.begin(), runs.end());
   std::ostringstream md;
   md << "# SGDO-SLAM ablation (seed 001, Table 6) on synthetic sequences\n\n"
      << "Written by `" << CanonicalCommand(a) << "` (dynref " << DYNREF_VERSION << ", commit " << DYNREF_GIT_COMMIT
      << "). Do not edit by hand.\n\n"
+     << "- Runs made by dynref commit " << RunCommits(all_runs) << ".\n"
      << "- Sequences: `dynref synth --preset P --frames " << a.frames << " --seed S --detections " << a.detections
      << "` for seeds S = " << SeedListText(a.seeds) << " (synthetic analogues of TUM fr3; the paper ran one "
      << "non-deterministic run per real TUM sequence).\n"

@@ -115,6 +115,12 @@ int RunSgdoTable(const SgdoTableArgs& a) {
   md << "# SGDO-SLAM (seed 001) " << titles.at(a.table) << ", on synthetic sequences\n\n"
      << "Written by `" << cmd << "` (dynref " << DYNREF_VERSION << ", commit " << DYNREF_GIT_COMMIT
      << "). Do not edit by hand.\n\n"
+     << "- Runs made by dynref commit " << [&] {
+          std::vector<RunSummary> all;
+          for (const auto& [preset, c] : cells)
+            for (const Cell& runs : c) all.insert(all.end(), runs.begin(), runs.end());
+          return RunCommits(all);
+        }() << ".\n"
      << "- Sequences: `dynref synth --preset P --frames " << a.frames << " --seed S --detections " << a.detections
      << "` for seeds S = " << SeedListText(a.seeds) << "; the paper ran one non-deterministic run on each full real "
      << "TUM sequence (frame counts below).\n"

@@ -142,6 +142,14 @@ MethodConfig LoadConfigWithout(const std::string& config_name, const std::vector
   return cfg;
 }
 
+std::string RunCommits(const std::vector<RunSummary>& runs) {
+  std::set<std::string> seen;
+  std::string out;
+  for (const RunSummary& r : runs)
+    if (seen.insert(r.commit).second) out += (out.empty() ? "" : ", ") + r.commit;
+  return out;
+}
+
 Workspace::Workspace(std::string dir, SynthSpec spec, bool reuse, WorkMode mode)
     : dir_(std::move(dir)), spec_(std::move(spec)), reuse_(reuse), mode_(mode) {}
 
@@ -224,6 +232,7 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
     // fewer than 2 pairs: the tables print n/a
   }
   const nlohmann::json run = nlohmann::json::parse(ReadText(s.run_dir + "/run.json"), nullptr, false);
+  if (!run.is_discarded()) s.commit = run.value("dynref_commit", std::string("unknown"));
   if (!run.is_discarded() && run.contains("timing")) {
     s.ms_slam = run["timing"]["slam"].value("mean_ms_per_frame", std::nan(""));
     s.ms_total = run["timing"]["total"].value("mean_ms_per_frame", std::nan(""));

@@ -40,6 +40,7 @@ struct RunSummary {
   ErrorStats rpe_trans, rpe_rot;
   double ms_slam = std::nan("");  // run.json timing: mean thread-CPU ms per frame (machine-dependent)
   double ms_total = std::nan("");
+  std::string commit;  // run.json dynref_commit: the build that made the run (--collect may read older runs)
   std::map<std::string, double> ms_modules;  // every run.json timing module, + "stages" (sum of timing_stages)
 };
 
@@ -49,6 +50,9 @@ enum class WorkMode {
   kCollect,  // only read: every sequence and run must exist, made by `dynref synth` / `dynref run`
              // (e.g. by workflow/Snakefile) with the same arguments and config, else InputError
 };
+
+// The distinct commits that made `runs`, in order: "abc123" or "abc123, def456".
+std::string RunCommits(const std::vector<RunSummary>& runs);
 
 class Workspace {
  public:

@@ -154,6 +154,9 @@ TEST_CASE("synth: CLI writes a sequence that dynref info reads and bad arguments
   CHECK(info.exit_code == 0);
   CHECK(info.output.find("3 RGB-D pairs") != std::string::npos);
   CHECK(info.output.find("GT coverage    3 of 3") != std::string::npos);
+  // The share of moving pixels per frame, from SEQ/gt (people walk in every frame of walking_xyz).
+  CHECK(info.output.find("moving pixels  ") != std::string::npos);
+  CHECK(info.output.find("3 of 3 labelled frames show motion") != std::string::npos);
   CHECK(dynref::test::RunDynref("synth --preset nope --out '" + dir + "/x'").exit_code == 2);
   CHECK(dynref::test::RunDynref("synth --preset walking_xyz --detections magic --out '" + dir + "/y'").exit_code == 2);
   CHECK(dynref::test::RunDynref("synth --preset walking_xyz --frames -1 --out '" + dir + "/z'").exit_code == 2);
