@@ -275,6 +275,10 @@ int RunBlurTable(const BlurTableArgs& a) {
       }
     }
   }
+  if (a.table == "table1")
+    md << PaperNotes("003-table1.csv", p1.notes) << PaperNotes("003-table2.csv", p2.notes);
+  else
+    md << PaperNotes("003-table3.csv", p3.notes) << PaperNotes("003-table4.csv", p4.notes);
   {  // Plot beside the report: ATE per sequence and variant (mean +- S.D. over seeds), paper lighter.
     std::vector<render::BarSeries> series;
     for (size_t v = 0; v < variants.size(); ++v) {

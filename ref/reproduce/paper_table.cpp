@@ -1,6 +1,7 @@
 #include "reproduce/paper_table.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -11,11 +12,24 @@
 namespace dynref::reproduce {
 namespace {
 
+// RFC 4180 cells: a quoted cell may hold commas ("AMD Ryzen 7 4800H CPU, NVIDIA RTX 2060 GPU"),
+// "" inside quotes is one quote.
 std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string cell;
-  while (std::getline(ss, cell, ',')) out.push_back(cell);
+  std::vector<std::string> out(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char ch = line[i];
+    if (quoted && ch == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+      out.back() += '"';
+      ++i;
+    } else if (ch == '"') {
+      quoted = !quoted;
+    } else if (ch == ',' && !quoted) {
+      out.emplace_back();
+    } else if (ch != '\r') {
+      out.back() += ch;
+    }
+  }
   return out;
 }
 
@@ -25,7 +39,11 @@ double PaperTable::Cell(const std::string& row, const std::string& column) const
   auto r = rows.find(row);
   if (r == rows.end()) return std::nan("");
   for (size_t c = 0; c < header.size() && c < r->second.size(); ++c)
-    if (header[c] == column) return std::stod(r->second[c]);
+    if (header[c] == column) {
+      char* end = nullptr;
+      const double v = std::strtod(r->second[c].c_str(), &end);
+      return end != r->second[c].c_str() ? v : std::nan("");  // empty (printed '-') or text: NaN
+    }
   return std::nan("");
 }
 
@@ -35,7 +53,12 @@ PaperTable ReadPaperTable(const std::string& path) {
   PaperTable t;
   std::string line;
   while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
+    if (!line.empty() && line[0] == '#') {
+      if (t.caption.empty() && t.header.empty()) t.caption = line.substr(line.size() > 1 && line[1] == ' ' ? 2 : 1);
+      else t.notes.push_back(line.substr(line.size() > 1 && line[1] == ' ' ? 2 : 1));
+      continue;
+    }
+    if (line.empty()) continue;
     if (t.header.empty()) {
       t.header = SplitCsv(line);
       continue;

@@ -8,10 +8,12 @@
 namespace dynref::reproduce {
 
 struct PaperTable {
+  std::string caption;             // the first '#' line: "Table 1. ... (unit)"
+  std::vector<std::string> notes;  // later '#' lines: inconsistencies found in the paper's table
   std::vector<std::string> header;
   std::map<std::string, std::vector<std::string>> rows;  // first cell -> cells (a repeated first cell: the last row)
   std::vector<std::vector<std::string>> ordered;          // every row in file order (tables whose first column repeats)
-  // The cell as a number; NaN when the row or column is missing.
+  // The cell as a number; NaN when the row or column is missing or the cell is empty or text.
   double Cell(const std::string& row, const std::string& column) const;
 };
 

@@ -33,6 +33,13 @@ inline std::string MeanSd(const std::vector<double>& v, int decimals = 4) {
   const ErrorStats st = ComputeErrorStats(v);
   return Num(st.mean, decimals) + (v.size() > 1 ? " ± " + Num(st.std, decimals) : "");
 }
+// A section listing the CSV's notes on the paper's table (inconsistencies found when extracting it; "" when none).
+inline std::string PaperNotes(const std::string& file, const std::vector<std::string>& notes) {
+  if (notes.empty()) return "";
+  std::string s = "\n## Notes on the paper's table (`reports/paper-tables/" + file + "`)\n\n";
+  for (const std::string& n : notes) s += "- " + n + "\n";
+  return s;
+}
 // 100 num / den with one decimal, "-" when den = 0.
 inline std::string Pct(double num, double den) { return den > 0 ? FormatFixed(100.0 * num / den, 1) : "-"; }
 

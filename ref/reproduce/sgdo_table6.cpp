@@ -370,6 +370,7 @@ int RunSgdoTable6(const Table6Args& a) {
   }
   if (disagreements == 0) md << "| (none on these sequences) | | | | |\n";
   md << "\nThe reduction column above uses Table 1's printed improvement.\n";
+  md << PaperNotes("001-table6.csv", t6.notes) << PaperNotes("001-table1.csv", t1.notes);
 
   md << "\n## Per seed: ATE RMSE (m), tracked frames\n\n| Sequence | Variant | seeds " << SeedListText(a.seeds)
      << " |\n|---|---|---|\n";

@@ -275,6 +275,7 @@ int RunSgdoTable(const SgdoTableArgs& a) {
     plots.push_back({"Per-module CPU time", fs::path(stem + ".png").filename().string()});
   }
 
+  md << PaperNotes("001-" + a.table + ".csv", paper.notes);
   if (!plots.empty()) {
     md << "\n## Plots\n\nBars: dynref's mean over seeds with its S.D.; the paper's values in the lighter bars.\n";
     for (const auto& [caption, file] : plots) md << "\n![" << caption << "](" << file << ")\n";

@@ -1,10 +1,12 @@
 // `dynref reproduce --list` names every table, each name is a working subcommand, and
 // `dynref run --set` changes exactly the named stage parameter.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "reproduce/paper_table.h"
 #include "reproduce/table_list.h"
 #include "test_support.h"
 
@@ -51,4 +53,25 @@ TEST_CASE("run --set changes one stage parameter and records it, a malformed --s
   test::ExpectBadInput(base + " --out " + dir + "/bad2 --set eta=1", "--set");
   test::ExpectBadInput(base + " --out " + dir + "/bad3 --set sgdo.depth.nope=1", "no parameter nope");
   test::ExpectBadInput(base + " --out " + dir + "/bad4 --set sgdo.nostage.eta=1", "no stage sgdo.nostage");
+}
+
+TEST_CASE("paper tables: quoted cells keep their commas, empty cells are NaN, notes are kept") {
+  const std::string dir = test::ScratchDir("paper_table");
+  const std::string path = test::WriteText(dir + "/t.csv",
+                                           "# Table 9. Caption (ms)\n"
+                                           "Systems,Time,Hardware\n"
+                                           "A,31.21,\"CPU, GPU\"\n"
+                                           "B,,\"say \"\"x\"\"\"\n"
+                                           "# B's time was printed as '-'\n");
+  const reproduce::PaperTable t = reproduce::ReadPaperTable(path);
+  CHECK(t.caption == "Table 9. Caption (ms)");
+  REQUIRE(t.notes.size() == 1);
+  CHECK(t.notes[0] == "B's time was printed as '-'");
+  REQUIRE(t.ordered.size() == 2);
+  CHECK(t.ordered[0][2] == "CPU, GPU");
+  CHECK(t.ordered[1][2] == "say \"x\"");
+  CHECK(t.Cell("A", "Time") == Approx(31.21));
+  CHECK(std::isnan(t.Cell("B", "Time")));
+  CHECK(std::isnan(t.Cell("C", "Time")));
+  CHECK(std::isnan(t.Cell("A", "Nope")));
 }
