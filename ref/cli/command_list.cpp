@@ -20,10 +20,12 @@ void RegisterSynthCommand(CLI::App& root, CommandList& out);
 void RegisterRunCommand(CLI::App& root, CommandList& out);
 void RegisterReproduceCommand(CLI::App& root, CommandList& out);
 void RegisterEnhanceCommand(CLI::App& root, CommandList& out);
+void RegisterMapEvalCommand(CLI::App& root, CommandList& out);
 
 void RegisterAllCommands(CLI::App& root, CommandList& out) {
   RegisterVersionCommand(root, out);
   RegisterEvalCommand(root, out);
+  RegisterMapEvalCommand(root, out);
   RegisterInfoCommand(root, out);
   RegisterDetectCommand(root, out);
   RegisterTraceCommand(root, out);

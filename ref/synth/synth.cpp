@@ -1,5 +1,7 @@
 #include "synth/synth.h"
 
+#include "synth/scene_export.h"
+
 #include <opencv2/imgcodecs.hpp>
 #include <algorithm>
 #include <chrono>
@@ -158,6 +160,7 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
   gt_txt << "# ground truth trajectory (T_wc, camera to world)\n" << header << "# timestamp tx ty tz qx qy qz qw\n";
   moving_txt << "# rgb_stamp ids of instances that move in this frame (> 1 mm since the previous frame)\n";
 
+  SceneGeometryRecorder geometry(world);
   Rng timing(opt.seed, "synth.timing");
   std::vector<DrawItem> items, items_prev, sub_items;
   GBuffer gb, sub_gb;
@@ -218,6 +221,7 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
         motion.at<uint8_t>(y, x) = rec && moving[size_t(rec->part)] ? 255 : 0;
       }
 
+    geometry.AddFrame(items, moving, moving_ids, gt.instance_ids, gt.depth_m, K, T_wc);
     WritePng(out + "/rgb/" + rgb_stamp + ".png", rgb);
     WritePng(out + "/depth/" + depth_stamp + ".png", depth);
     gt_writer.Write(GtDetections(gt, world.scene().labels));
@@ -248,6 +252,7 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
   AtomicWriteFile(out + "/synth.yaml", meta.str());
   AtomicWriteFile(out + "/gt/labels.yaml", LabelsYaml(world.scene()));
   AtomicWriteFile(out + "/gt/moving.txt", moving_txt.str());
+  geometry.Write(out + "/gt");
   for (size_t m = 0; m < modes.size(); ++m) AtomicWriteFile(out + "/gt/dropped-" + modes[m] + ".txt", dropped_txt[m].str());
   gt_writer.Finish();
   for (auto& w : det_writers) w->Finish();
