@@ -41,20 +41,10 @@ int RunMapEval(const MapEvalArgs& a) {
       throw InputError(a.gt + "/gt/" + f, "missing: --gt needs a sequence written by dynref synth (scene ground truth)");
   const std::string traj = a.trajectory.empty() ? (fs::path(a.map).parent_path() / "trajectory.txt").string() : a.trajectory;
   const dense::PointCloud cloud = ext == ".ply" ? dense::ReadPly(a.map) : dense::ReadPcd(a.map);
-  // The map lives in the run's world frame, anchored at its first camera. "first" maps that camera
-  // onto its true pose (T = T_wc_gt(0) T_wc_est(0)^-1); "ate" uses the trajectory's SE(3)
-  // position fit, whose rotation is poorly fixed by a short or straight camera path (a degree
-  // about the path moves points 3 m away by 5 cm).
-  const TumTrajectory gt = ReadTumTrajectory(a.gt + "/groundtruth.txt"), est = ReadTumTrajectory(traj);
-  const AteResult ate = ComputeAte(gt, est, AteOptions{});
-  SE3 T = SE3::Identity();
-  if (a.align == "first") {
-    const StampMatch& m = ate.matches.front();  // stamp order: the earliest associated pose
-    T = gt.poses[m.first].T_wc * est.poses[m.second].T_wc.inverse();
-  } else {
-    T.linear() = ate.alignment.R;
-    T.translation() = ate.alignment.t;
-  }
+  // The map lives in the run's world frame, anchored at its first camera (eval/map_eval.h).
+  double traj_rmse = 0;
+  const SE3 T = MapToGroundTruth(ReadTumTrajectory(a.gt + "/groundtruth.txt"), ReadTumTrajectory(traj),
+                                 a.align == "first" ? MapAlign::kFirstCamera : MapAlign::kAte, &traj_rmse);
   std::vector<Eigen::Vector3d> map;
   map.reserve(cloud.size());
   for (const auto& p : cloud) map.push_back(T * Eigen::Vector3d(p.x, p.y, p.z));
@@ -64,7 +54,7 @@ int RunMapEval(const MapEvalArgs& a) {
   std::ostringstream o;
   o << "dynref map-eval\n  map            " << a.map << "  (" << r.map_points << " points)\n"
     << "  aligned with   " << traj << "  (" << (a.align == "first" ? "first camera onto its true pose" : "SE(3) ATE fit")
-    << "; trajectory ATE RMSE " << FormatFixed(ate.stats.rmse, 4) << " m)\n"
+    << "; trajectory ATE RMSE " << FormatFixed(traj_rmse, 4) << " m)\n"
     << "  accuracy [m]   mean " << FormatFixed(r.accuracy.mean, 4) << "  median " << FormatFixed(r.accuracy.median, 4)
     << "  p95 " << FormatFixed(r.accuracy_p95, 4) << "  max " << FormatFixed(r.accuracy.max, 4)
     << "  (distance to the static scene mesh)\n"
@@ -78,7 +68,7 @@ int RunMapEval(const MapEvalArgs& a) {
                         {"trajectory", traj},
                         {"align", a.align},
                         {"map_points", r.map_points},
-                        {"alignment_ate_rmse_m", ate.stats.rmse},
+                        {"alignment_ate_rmse_m", traj_rmse},
                         {"accuracy_m", {{"mean", r.accuracy.mean}, {"median", r.accuracy.median}, {"p95", r.accuracy_p95}, {"max", r.accuracy.max}}},
                         {"completeness", r.completeness},
                         {"completeness_radius_m", a.options.complete_m},

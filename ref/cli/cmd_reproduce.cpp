@@ -7,6 +7,7 @@
 #include "reproduce/blur_tables.h"
 #include "reproduce/epi_tables.h"
 #include "reproduce/sgdo_table6.h"
+#include "reproduce/semantic_tables.h"
 #include "reproduce/sgdo_tables.h"
 #include "reproduce/table_list.h"
 
@@ -132,6 +133,29 @@ void RegisterReproduceCommand(CLI::App& root, CommandList& out) {
     out.push_back({et, [e, seeds] {
                      if (!seeds->empty()) e->seeds = ParseSeedList(*seeds, "--seeds");
                      return reproduce::RunEpiTable(*e);
+                   }});
+  }
+
+  // Semantic mapping (seed 002): map files per stage, map quality, non-prior dynamic objects.
+  {
+    auto m = std::make_shared<reproduce::SemanticTableArgs>();
+    auto seeds = std::make_shared<std::vector<std::string>>();
+    CLI::App* mt = rep->add_subcommand(
+        "semantic-filesizes",
+        "Seed 002: map files per stage (raw, SOR, voxel, octree, grid) beside the paper's sizes, map accuracy/"
+        "completeness/ghosts of semantic vs no removal vs sgdo, non-prior dynamic P/R, over seeds");
+    mt->add_option("--out", m->out, "Markdown report (default " + m->out + ")");
+    mt->add_option("--work", m->work, "Working folder <work>/seed<S>/{seq,runs} (default " + m->work + ")");
+    mt->add_option("--frames", m->frames, "Frames per synthetic sequence (default 150)");
+    mt->add_option("--seeds", *seeds, "Synthesis seeds: list and ranges (default 1-3)")->delimiter(',');
+    mt->add_option("--detections", m->detections, "Synthetic detection mode (default yolo-like)");
+    mt->add_option("--sequences", m->sequences, "Presets (default the paper's TUM analogues + walking_xyz + moving_box)")
+        ->delimiter(',');
+    mt->add_flag("--reuse", m->reuse, "Reuse sequences/runs of an earlier call with identical inputs");
+    mt->add_flag("--collect", m->collect, "Only read: sequences and runs already in --work");
+    out.push_back({mt, [m, seeds] {
+                     if (!seeds->empty()) m->seeds = ParseSeedList(*seeds, "--seeds");
+                     return reproduce::RunSemanticTable(*m);
                    }});
   }
 

@@ -6,6 +6,7 @@
 #include <memory>
 #include <set>
 
+#include "eval/trajectory_eval.h"
 #include "geometry/point_index_3d.h"
 
 namespace dynref {
@@ -82,6 +83,22 @@ double MeshDistance::Distance(const Eigen::Vector3d& q) const {
     best = std::min(best, (ClosestPointOnTriangle(q, Vertex(mesh_, f[0]), Vertex(mesh_, f[1]), Vertex(mesh_, f[2])) - q).norm());
   }
   return best;
+}
+
+SE3 MapToGroundTruth(const TumTrajectory& gt, const TumTrajectory& est, MapAlign mode, double* ate_rmse) {
+  const AteResult ate = ComputeAte(gt, est, AteOptions{});
+  if (ate_rmse) *ate_rmse = ate.stats.rmse;
+  SE3 T = SE3::Identity();
+  if (mode == MapAlign::kFirstCamera) {
+    size_t first = 0;  // the earliest estimate pose with a ground-truth partner
+    for (size_t i = 1; i < ate.matches.size(); ++i)
+      if (ate.matches[i].second < ate.matches[first].second) first = i;
+    T = gt.poses[ate.matches[first].first].T_wc * est.poses[ate.matches[first].second].T_wc.inverse();
+  } else {
+    T.linear() = ate.alignment.R;
+    T.translation() = ate.alignment.t;
+  }
+  return T;
 }
 
 MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const dense::TriangleMesh& static_mesh,

@@ -12,8 +12,10 @@
 #include <string>
 #include <vector>
 
+#include "core/se3.h"
 #include "dense/ply_writer.h"
 #include "eval/statistics.h"
+#include "io/trajectory.h"
 
 namespace dynref {
 
@@ -51,6 +53,15 @@ class MeshDistance {
 // Closest point to p on triangle (a, b, c) (exposed for tests).
 Eigen::Vector3d ClosestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                        const Eigen::Vector3d& c);
+
+// The transform from a run's world frame (its map's frame) to the ground truth's.
+//   kFirstCamera: the run's first camera (earliest pose associated with ground truth, TUM
+//                 associate) onto its true pose, T = T_wc_gt T_wc_est^-1: the map's own anchor.
+//   kAte:         the trajectory's SE(3) position fit (evaluate_ate.py), whose rotation a short or
+//                 nearly straight camera path barely constrains.
+// ate_rmse (optional) receives the trajectory's ATE RMSE. InputError when nothing associates.
+enum class MapAlign { kFirstCamera, kAte };
+SE3 MapToGroundTruth(const TumTrajectory& gt, const TumTrajectory& est, MapAlign mode, double* ate_rmse = nullptr);
 
 // `map` already in the ground-truth frame.
 MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const dense::TriangleMesh& static_mesh,

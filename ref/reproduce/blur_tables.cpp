@@ -146,7 +146,7 @@ int RunBlurTable(const BlurTableArgs& a) {
     AddRun(s, c);
   };
   for (uint64_t seed : a.seeds) {
-    Workspace ws(a.work + "/seed" + std::to_string(seed), {a.frames, seed, a.detections, a.blur}, a.reuse,
+    Workspace ws(SeedWorkDir(a.work, seed), {a.frames, seed, a.detections, a.blur}, a.reuse,
                  a.collect ? WorkMode::kCollect : WorkMode::kMake);
     ws.set_stage_trace_level("frames");
     for (const std::string& preset : a.sequences) {

@@ -104,7 +104,7 @@ int RunEpiTable(const EpiTableArgs& a) {
 
   auto sequence = [&](uint64_t seed, const std::string& preset, bool low_light, bool blur) {
     const std::string variant = std::string(low_light ? "lowlight" : "normal") + (blur ? "-blur" : "");
-    Workspace ws(a.work + "/seed" + std::to_string(seed) + "/" + variant, {a.frames, seed, "none", blur, low_light},
+    Workspace ws(SeedWorkDir(a.work, seed) + "/" + variant, {a.frames, seed, "none", blur, low_light},
                  a.reuse);
     return OpenSequence(ws.EnsureSequence(preset));
   };

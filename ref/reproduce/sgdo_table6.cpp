@@ -44,8 +44,6 @@ const std::vector<Variant>& Table6Variants() {
   return v;
 }
 
-std::string SeedWorkDir(const std::string& work, uint64_t seed) { return work + "/seed" + std::to_string(seed); }
-
 std::vector<std::pair<double, double>> SensitivityGrid() {
   return {{0.05, 100}, {0.1, 100}, {0.2, 100}, {0.4, 100}, {0.1, 0}, {0.1, 25}, {0.1, 400}};
 }

@@ -45,9 +45,6 @@ MethodConfig SensitivityConfig(double eta, double lambda);
 // Paper row names of a synthetic preset (Table 6, Table 1); empty when it has none.
 std::pair<std::string, std::string> PaperRows(const std::string& preset);
 
-// The sequence and run folders of one cell, as workflow/Snakefile writes them.
-std::string SeedWorkDir(const std::string& work, uint64_t seed);
-
 // Checks every argument first (InputError naming the option), then runs and writes the report.
 int RunSgdoTable6(const Table6Args& args);
 

@@ -142,6 +142,8 @@ MethodConfig LoadConfigWithout(const std::string& config_name, const std::vector
   return cfg;
 }
 
+std::string SeedWorkDir(const std::string& work, uint64_t seed) { return work + "/seed" + std::to_string(seed); }
+
 std::string RunCommits(const std::vector<RunSummary>& runs) {
   std::set<std::string> seen;
   std::string out;

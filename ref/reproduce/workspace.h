@@ -51,6 +51,9 @@ enum class WorkMode {
              // (e.g. by workflow/Snakefile) with the same arguments and config, else InputError
 };
 
+// <work>/seed<S>: the folder of one synthesis seed (its seq/ and runs/), as workflow/Snakefile writes it.
+std::string SeedWorkDir(const std::string& work, uint64_t seed);
+
 // The distinct commits that made `runs`, in order: "abc123" or "abc123, def456".
 std::string RunCommits(const std::vector<RunSummary>& runs);
 

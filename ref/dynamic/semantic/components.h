@@ -4,8 +4,11 @@
 #include <memory>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "dense/dense_map.h"
+#include "dynamic/semantic/interaction.h"
+#include "io/mask_format.h"
 #include "dense/occupancy_grid.h"
 #include "geometry/dynamic_mask.h"
 #include "method/map_module.h"
@@ -36,6 +39,20 @@ struct MaskOptions {
   bool reject_keypoints = true;
   void Check() const;
 };
+
+// semantic.mask's options from its config parameters (InputError naming file:line).
+MaskOptions MaskOptionsFromParams(const ParamMap& p);
+
+// Sec. 3.1-3.2 on one frame: the detected instances by class partition and interaction test.
+struct InstanceClasses {
+  std::set<int> prior_dynamic, prior_static, non_prior_dynamic;  // detection instance ids
+  struct Test {
+    int a = 0, b = 0;  // prior-dynamic instance a against prior-static instance b
+    InteractionResult result;
+  };
+  std::vector<Test> tests;  // in evaluation order (b ascending, then a ascending; b stops at its first hit)
+};
+InstanceClasses ClassifyInstances(const FrameDetections& det, const cv::Mat& depth_m, const MaskOptions& o);
 
 class MaskStage : public Stage {
  public:

@@ -20,21 +20,47 @@ void MaskOptions::Check() const {
   if (dilation_kernel_px < 1 || dilation_kernel_px % 2 == 0) throw std::invalid_argument("dilation_kernel_px must be odd and >= 1");
 }
 
-MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Board> board) : board_(std::move(board)) {
+MaskOptions MaskOptionsFromParams(const ParamMap& p) {
   p.RequireKnownKeys({"prior_dynamic_classes", "min_confidence", "d_max_px", "t_int_m", "interaction",
                       "dilation_kernel_px", "reject_keypoints"});
-  for (int id : p.GetCocoClassIds("prior_dynamic_classes")) o_.prior_dynamic_class_ids.insert(id);
-  o_.min_confidence = p.GetDouble("min_confidence");
-  o_.d_max_px = static_cast<int>(p.GetInt("d_max_px"));
-  o_.t_int_m = p.GetDouble("t_int_m");
-  o_.interaction = p.GetBool("interaction");
-  o_.dilation_kernel_px = static_cast<int>(p.GetInt("dilation_kernel_px"));
-  o_.reject_keypoints = p.GetBool("reject_keypoints");
+  MaskOptions o;
+  for (int id : p.GetCocoClassIds("prior_dynamic_classes")) o.prior_dynamic_class_ids.insert(id);
+  o.min_confidence = p.GetDouble("min_confidence");
+  o.d_max_px = static_cast<int>(p.GetInt("d_max_px"));
+  o.t_int_m = p.GetDouble("t_int_m");
+  o.interaction = p.GetBool("interaction");
+  o.dilation_kernel_px = static_cast<int>(p.GetInt("dilation_kernel_px"));
+  o.reject_keypoints = p.GetBool("reject_keypoints");
   try {
-    o_.Check();
+    o.Check();
   } catch (const std::invalid_argument& e) {
     throw InputError(p.file, p.line, "stage semantic.mask: " + std::string(e.what()));
   }
+  return o;
+}
+
+MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Board> board)
+    : o_(MaskOptionsFromParams(p)), board_(std::move(board)) {}
+
+InstanceClasses ClassifyInstances(const FrameDetections& det, const cv::Mat& depth_m, const MaskOptions& o) {
+  InstanceClasses c;
+  for (const DetectedInstance& inst : det.instances) {  // ascending id
+    if (inst.confidence < o.min_confidence || inst.class_id < 0) continue;
+    (o.prior_dynamic_class_ids.count(inst.class_id) ? c.prior_dynamic : c.prior_static).insert(inst.id);
+  }
+  if (!o.interaction || det.instance_ids.empty() || c.prior_dynamic.empty()) return c;
+  const std::map<int, cv::Rect> bounds = InstanceBounds(det.instance_ids);
+  for (int b : c.prior_static)
+    for (int a : c.prior_dynamic) {
+      const InteractionResult r = TestInteraction(det.instance_ids, depth_m, bounds, a, b, o.d_max_px, o.t_int_m);
+      if (r.pairs == 0) continue;  // not adjacent: no test
+      c.tests.push_back({a, b, r});
+      if (r.interacting) {
+        c.non_prior_dynamic.insert(b);
+        break;  // one interacting prior-dynamic instance is enough
+      }
+    }
+  return c;
 }
 
 void MaskStage::Run(StageContext& ctx) {
@@ -43,33 +69,21 @@ void MaskStage::Run(StageContext& ctx) {
     throw InputError("--detections", "semantic.mask needs instance masks for frame " + f.stamp_text + " (run with --detections DIR)");
   const FrameDetections& det = *f.detections;
   trace::TraceWriter& tr = ctx.trace;
-  std::set<int> dynamic_ids, static_ids;
-  for (const DetectedInstance& inst : det.instances) {  // ascending id
-    if (inst.confidence < o_.min_confidence || inst.class_id < 0) continue;
-    (o_.prior_dynamic_class_ids.count(inst.class_id) ? dynamic_ids : static_ids).insert(inst.id);
+  const InstanceClasses classes = ClassifyInstances(det, f.depth_m, o_);
+  for (const InstanceClasses::Test& t : classes.tests) {
+    const InteractionResult& r = t.result;
+    const std::string id = "i" + std::to_string(f.index) + "." + std::to_string(t.b);
+    tr.ProbabilityUpdate("semantic.interaction", trace::EntityKind::kInstanceMask, id,
+                         {{"with_instance", double(t.a)}, {"pairs", double(r.pairs)}, {"dz_mean_m", r.dz_mean_m},
+                          {"t_int_m", o_.t_int_m}, {"d_max_px", double(o_.d_max_px)}},
+                         0.0, r.interacting ? 1.0 : 0.0);
   }
-  const std::set<int> prior_dynamic = dynamic_ids;
-  int64_t tests = 0, non_prior = 0;
-  if (o_.interaction && !det.instance_ids.empty() && !prior_dynamic.empty()) {
-    const std::map<int, cv::Rect> bounds = InstanceBounds(det.instance_ids);
-    for (int b : static_ids) {
-      for (int a : prior_dynamic) {
-        const InteractionResult r = TestInteraction(det.instance_ids, f.depth_m, bounds, a, b, o_.d_max_px, o_.t_int_m);
-        if (r.pairs == 0) continue;  // not adjacent: no test
-        ++tests;
-        const std::string id = "i" + std::to_string(f.index) + "." + std::to_string(b);
-        tr.ProbabilityUpdate("semantic.interaction", trace::EntityKind::kInstanceMask, id,
-                             {{"with_instance", double(a)}, {"pairs", double(r.pairs)}, {"dz_mean_m", r.dz_mean_m},
-                              {"t_int_m", o_.t_int_m}, {"d_max_px", double(o_.d_max_px)}},
-                             0.0, r.interacting ? 1.0 : 0.0);
-        if (r.interacting) {
-          dynamic_ids.insert(b);
-          ++non_prior;
-          break;  // one interacting prior-dynamic instance is enough
-        }
-      }
-    }
-  }
+  const std::set<int>& prior_dynamic = classes.prior_dynamic;
+  const std::set<int>& static_ids = classes.prior_static;
+  std::set<int> dynamic_ids = prior_dynamic;
+  dynamic_ids.insert(classes.non_prior_dynamic.begin(), classes.non_prior_dynamic.end());
+  const int64_t tests = static_cast<int64_t>(classes.tests.size());
+  const int64_t non_prior = static_cast<int64_t>(classes.non_prior_dynamic.size());
   for (const DetectedInstance& inst : det.instances) {
     if (!dynamic_ids.count(inst.id) && !static_ids.count(inst.id)) continue;
     const bool dyn = dynamic_ids.count(inst.id) > 0;

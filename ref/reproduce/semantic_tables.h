@@ -1,0 +1,29 @@
+// `dynref reproduce semantic-filesizes`: semantic mapping (seed 002) on synthetic analogues of its
+// sequences, over seeds: the map files per stage (raw, SOR, voxel, octree, 2-D grid) beside the
+// paper's sizes (Sec. 4.4, reports/paper-tables/002-filesizes.csv); map quality against the
+// synthetic scene truth (`dynref map-eval`: accuracy, completeness, ghost fraction) of the
+// semantic map, the same mapping on the plain backbone without removal (semantic_orbmap) and
+// SGDO-SLAM's dense map; and the non-prior dynamic decisions (interaction test, replayed with the
+// stage's own code) against the ground-truth motion of each detected object.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace dynref::reproduce {
+
+struct SemanticTableArgs {
+  std::string out = "reports/semantic-filesizes.md";
+  std::string work = "dynref-work/semantic";
+  int frames = 150;
+  std::vector<uint64_t> seeds = {1, 2, 3};
+  std::string detections = "yolo-like";
+  std::vector<std::string> sequences = {"walking_xyz",  "walking_static", "walking_rpy", "walking_halfsphere",
+                                        "sitting_static", "sitting_halfsphere", "static_rpy", "moving_box"};
+  bool reuse = false;
+  bool collect = false;
+};
+
+int RunSemanticTable(const SemanticTableArgs& args);
+
+}  // namespace dynref::reproduce
