@@ -191,7 +191,13 @@ int RunBlurTable(const BlurTableArgs& a) {
      << "- Methods: `configs/<name>.yaml` (every parameter with its source).\n"
      << "- ATE RMSE in metres after SE(3) alignment (TUM evaluate_ate.py) over tracked frames: mean ± S.D. over the "
      << a.seeds.size() << " seeds (the paper: 5 runs of one sequence, aggregation not stated, spec 003 E10). "
-     << "Paper values: `reports/paper-tables/003-table*.csv`, real data.\n\n";
+     << "Paper values: `reports/paper-tables/003-table*.csv`, real data.\n\n"
+     << FramesTable(a.sequences, a.frames, [&] {
+          std::vector<std::string> rows;  // TUM rows only: the Bonn presets do not imitate their sequences' lengths
+          for (const std::string& p : a.sequences) rows.push_back(PaperRow(p).first == "1" ? PaperRow(p).second : "");
+          return rows;
+        }())
+     << "\n";
 
   auto ate_table = [&](const std::vector<std::string>& presets) {
     md << "| Sequence |";

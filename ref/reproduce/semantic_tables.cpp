@@ -182,10 +182,11 @@ int RunSemanticTable(const SemanticTableArgs& a) {
      << "backbone, nothing removed: where ghosts come from), `configs/sgdo.yaml` (SGDO-SLAM's dense map, seed 001).\n"
      << "- Cells: mean ± population S.D. over seeds. Paper values: `reports/paper-tables/002-filesizes.csv` "
      << "(Sec. 4.4 text; only the voxel step is quantified there).\n\n"
-     << "| Sequence | dynref frames per run | paper sequence | paper frames (full sequence) |\n|---|---|---|---|\n";
-  for (const std::string& preset : a.sequences)
-    md << "| " << preset << " | " << a.frames << " | " << (PaperRow(preset).empty() ? "-" : PaperRow(preset)) << " | "
-       << (PaperRow(preset).empty() ? std::string("-") : std::to_string(synth::GetPreset(preset).default_frames)) << " |\n";
+     << FramesTable(a.sequences, a.frames, [&] {
+          std::vector<std::string> rows;
+          for (const std::string& p : a.sequences) rows.push_back(p == "static_rpy" ? "" : PaperRow(p));  // fr2: other length
+          return rows;
+        }());
 
   md << "\n## Map files per stage, MB (semantic run)\n\n| Sequence |";
   for (const auto& [file, what] : StageFiles()) md << " " << what << " |";

@@ -246,10 +246,11 @@ int RunSgdoTable6(const Table6Args& a) {
      << "- ATE: RMSE in metres after SE(3) alignment (TUM evaluate_ate.py) over tracked frames; dynref cells are "
      << "mean ± S.D. over the " << a.seeds.size() << " seeds (population S.D.).\n"
      << "- Paper values: `reports/paper-tables/001-table6.csv` (ORB-SLAM2: Table 1), real TUM data.\n\n"
-     << "| Sequence | dynref frames per run | paper sequence | paper frames (full sequence) |\n|---|---|---|---|\n";
-  for (const std::string& preset : a.sequences)
-    md << "| " << preset << " | " << a.frames << " | " << PaperRows(preset).second << " | "
-       << synth::GetPreset(preset).default_frames << " |\n";
+     << FramesTable(a.sequences, a.frames, [&] {
+          std::vector<std::string> rows;
+          for (const std::string& p : a.sequences) rows.push_back(PaperRows(p).second);
+          return rows;
+        }());
 
   const auto header = [&](const std::string& first) {
     md << "| " << first << " |";

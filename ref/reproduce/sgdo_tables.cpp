@@ -128,10 +128,11 @@ int RunSgdoTable(const SgdoTableArgs& a) {
      << "(`configs/sgdo.yaml` without the dense map, which does not feed back into tracking).\n"
      << "- dynref cells: mean ± population S.D. over the seeds; improvement = 100 (1 - SGDO / ORB) per seed, "
      << "then mean ± S.D. Paper values: `reports/paper-tables/001-" << a.table << ".csv`.\n\n"
-     << "| Sequence | dynref frames per run | paper sequence | paper frames (full sequence) |\n|---|---|---|---|\n";
-  for (const std::string& preset : a.sequences)
-    md << "| " << preset << " | " << a.frames << " | " << PaperRows(preset).second << " | "
-       << synth::GetPreset(preset).default_frames << " |\n";
+     << FramesTable(a.sequences, a.frames, [&] {
+          std::vector<std::string> rows;
+          for (const std::string& p : a.sequences) rows.push_back(PaperRows(p).second);
+          return rows;
+        }());
 
   if (a.table == "table1" || a.table == "table2" || a.table == "table3") {
     md << "\n## " << titles.at(a.table) << "\n\n| Sequence | source |";

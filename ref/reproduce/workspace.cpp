@@ -17,6 +17,7 @@
 #include "pipeline/pipeline.h"
 #include "render/overlay.h"
 #include "synth/synth.h"
+#include "synth/world.h"
 #include "trace/trace_reader.h"
 
 namespace fs = std::filesystem;
@@ -143,6 +144,16 @@ MethodConfig LoadConfigWithout(const std::string& config_name, const std::vector
 }
 
 std::string SeedWorkDir(const std::string& work, uint64_t seed) { return work + "/seed" + std::to_string(seed); }
+
+std::string FramesTable(const std::vector<std::string>& presets, int frames, const std::vector<std::string>& paper_rows) {
+  std::string md = "| Sequence | dynref frames per run | paper sequence | paper frames (full sequence) |\n|---|---|---|---|\n";
+  for (size_t i = 0; i < presets.size(); ++i) {
+    const bool has = i < paper_rows.size() && !paper_rows[i].empty();
+    md += "| " + presets[i] + " | " + std::to_string(frames) + " | " + (has ? paper_rows[i] : "-") + " | " +
+          (has ? std::to_string(synth::GetPreset(presets[i]).default_frames) : "-") + " |\n";
+  }
+  return md;
+}
 
 std::string RunCommits(const std::vector<RunSummary>& runs) {
   std::set<std::string> seen;

@@ -54,6 +54,11 @@ enum class WorkMode {
 // <work>/seed<S>: the folder of one synthesis seed (its seq/ and runs/), as workflow/Snakefile writes it.
 std::string SeedWorkDir(const std::string& work, uint64_t seed);
 
+// The Markdown table "dynref frames per run | paper sequence | paper frames (full sequence)" of the
+// presets; paper_rows[i] names preset i's real sequence, "" when none (printed "-"). The paper's
+// frame count is the preset's default length, which imitates the real TUM sequence.
+std::string FramesTable(const std::vector<std::string>& presets, int frames, const std::vector<std::string>& paper_rows);
+
 // The distinct commits that made `runs`, in order: "abc123" or "abc123, def456".
 std::string RunCommits(const std::vector<RunSummary>& runs);
 
