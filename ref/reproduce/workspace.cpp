@@ -1,6 +1,9 @@
 #include "reproduce/workspace.h"
 
+#include <opencv2/imgcodecs.hpp>
+
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -62,10 +65,16 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::st
           stages.count(r.stage) && r.entity.rfind(prefix, 0) == 0)
         rejected.insert(std::stoll(r.entity.substr(prefix.size())));
     }
+    // Per-part truth: the moving pixels of the frame (a seated person's arm, not their still legs).
+    const cv::Mat motion = cv::imread(seq_dir + "/gt/motion/" + stamp + ".png", cv::IMREAD_UNCHANGED);
     for (const auto& [idx, uv] : obs) {
       const bool dyn = gf.IsDynamic(uv.first, uv.second);
       const bool rej = rejected.count(idx) > 0;
       s.tp += dyn && rej, s.fp += !dyn && rej, s.fn += dyn && !rej, s.tn += !dyn && !rej;
+      const int x = static_cast<int>(std::floor(uv.first + 0.5)), y = static_cast<int>(std::floor(uv.second + 0.5));
+      const bool part = !motion.empty() && x >= 0 && y >= 0 && x < motion.cols && y < motion.rows &&
+                        motion.at<uint8_t>(y, x) != 0;
+      s.part_tp += part && rej, s.part_fp += !part && rej, s.part_fn += part && !rej, s.part_tn += !part && !rej;
     }
   }
   s.has_pr = true;

@@ -35,7 +35,8 @@ struct RunSummary {
   std::string ate_problem;
   ErrorStats ate;
   bool has_pr = false;  // precision/recall of rejected features (methods with stages)
-  int64_t tp = 0, fp = 0, fn = 0, tn = 0;
+  int64_t tp = 0, fp = 0, fn = 0, tn = 0;  // truth: the keypoint's instance moves (SEQ/gt/moving.txt)
+  int64_t part_tp = 0, part_fp = 0, part_fn = 0, part_tn = 0;  // truth: its pixel moves (SEQ/gt/motion/*.png)
   bool has_rpe = false;     // RPE over 1 s (evaluate_rpe.py --fixed_delta --delta 1): m/s and deg/s
   ErrorStats rpe_trans, rpe_rot;
   double ms_slam = std::nan("");  // run.json timing: mean thread-CPU ms per frame (machine-dependent)
