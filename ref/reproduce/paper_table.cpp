@@ -54,8 +54,9 @@ PaperTable ReadPaperTable(const std::string& path) {
   std::string line;
   while (std::getline(in, line)) {
     if (!line.empty() && line[0] == '#') {
-      if (t.caption.empty() && t.header.empty()) t.caption = line.substr(line.size() > 1 && line[1] == ' ' ? 2 : 1);
-      else t.notes.push_back(line.substr(line.size() > 1 && line[1] == ' ' ? 2 : 1));
+      // Before the header: provenance lines, then the caption (the last one); after it: notes.
+      const std::string text = line.substr(line.size() > 1 && line[1] == ' ' ? 2 : 1);
+      (t.header.empty() ? t.caption : t.notes.emplace_back()) = text;
       continue;
     }
     if (line.empty()) continue;

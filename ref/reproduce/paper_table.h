@@ -8,7 +8,7 @@
 namespace dynref::reproduce {
 
 struct PaperTable {
-  std::string caption;             // the first '#' line: "Table 1. ... (unit)"
+  std::string caption;             // the last '#' line before the header: "Table 1. ... (unit)"
   std::vector<std::string> notes;  // later '#' lines: inconsistencies found in the paper's table
   std::vector<std::string> header;
   std::map<std::string, std::vector<std::string>> rows;  // first cell -> cells (a repeated first cell: the last row)

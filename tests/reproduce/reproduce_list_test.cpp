@@ -58,6 +58,7 @@ TEST_CASE("run --set changes one stage parameter and records it, a malformed --s
 TEST_CASE("paper tables: quoted cells keep their commas, empty cells are NaN, notes are kept") {
   const std::string dir = test::ScratchDir("paper_table");
   const std::string path = test::WriteText(dir + "/t.csv",
+                                           "# Source: copied from somewhere\n"
                                            "# Table 9. Caption (ms)\n"
                                            "Systems,Time,Hardware\n"
                                            "A,31.21,\"CPU, GPU\"\n"
