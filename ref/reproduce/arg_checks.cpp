@@ -6,6 +6,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include <string>
 #include "synth/world.h"
 
 namespace fs = std::filesystem;
@@ -24,6 +25,15 @@ void CheckPresetList(const std::vector<std::string>& presets, const std::string&
                                    (allow_empty ? "; or 'none' alone to skip" : "") + ")");
     if (!seen.insert(p).second) throw InputError(option, "preset '" + p + "' given twice");
   }
+}
+
+void CheckMatrixArgs(int frames, const std::vector<uint64_t>& seeds, const std::string& detections,
+                     const std::vector<std::string>& sequences, bool reuse, bool collect) {
+  if (frames < 30) throw InputError("--frames", "need at least 30 frames, got " + std::to_string(frames));
+  CheckSeedList(seeds);
+  CheckDetectionMode(detections);
+  CheckPresetList(sequences, "--sequences", false);
+  if (collect && reuse) throw InputError("--collect", "--collect only reads; --reuse has no meaning with it");
 }
 
 void CheckSeedList(const std::vector<uint64_t>& seeds) {

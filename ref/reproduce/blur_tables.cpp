@@ -94,12 +94,8 @@ void AddRun(const RunSummary& s, Cell& c) {
 
 void CheckArgs(const BlurTableArgs& a) {
   if (a.table != "table1" && a.table != "table3") throw InputError("table", "unknown table '" + a.table + "'");
-  if (a.frames < 30) throw InputError("--frames", "need at least 30 frames, got " + std::to_string(a.frames));
-  CheckSeedList(a.seeds);
-  CheckDetectionMode(a.detections);
-  CheckPresetList(a.sequences, "--sequences", false);
+  CheckMatrixArgs(a.frames, a.seeds, a.detections, a.sequences, a.reuse, a.collect);
   CheckPresetList(a.sweep, "--sweep", true);
-  if (a.collect && a.reuse) throw InputError("--collect", "--collect only reads; --reuse has no meaning with it");
   CheckReportPaths(a.out, a.work);
 }
 

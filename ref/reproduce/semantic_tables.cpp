@@ -101,11 +101,7 @@ NonPriorCounts ReplayNonPrior(const std::string& seq_dir, const std::string& det
 }
 
 void CheckArgs(const SemanticTableArgs& a) {
-  if (a.frames < 30) throw InputError("--frames", "need at least 30 frames, got " + std::to_string(a.frames));
-  CheckSeedList(a.seeds);
-  CheckDetectionMode(a.detections);
-  CheckPresetList(a.sequences, "--sequences", false);
-  if (a.collect && a.reuse) throw InputError("--collect", "--collect only reads; --reuse has no meaning with it");
+  CheckMatrixArgs(a.frames, a.seeds, a.detections, a.sequences, a.reuse, a.collect);
   CheckReportPaths(a.out, a.work);
 }
 

@@ -70,10 +70,7 @@ std::pair<std::string, std::string> PaperRows(const std::string& preset) {
 namespace {
 
 void CheckTable6Args(const Table6Args& a) {
-  if (a.frames < 30) throw InputError("--frames", "need at least 30 frames, got " + std::to_string(a.frames));
-  CheckSeedList(a.seeds);
-  CheckDetectionMode(a.detections);
-  CheckPresetList(a.sequences, "--sequences", false);
+  CheckMatrixArgs(a.frames, a.seeds, a.detections, a.sequences, a.reuse, a.collect);
   CheckPresetList(a.sensitivity, "--sensitivity", true);
   std::set<std::string> seen;
   for (const std::string& v : a.variants) {
@@ -85,7 +82,6 @@ void CheckTable6Args(const Table6Args& a) {
     }
     if (!seen.insert(v).second) throw InputError("--variants", "variant '" + v + "' given twice");
   }
-  if (a.collect && a.reuse) throw InputError("--collect", "--collect only reads; --reuse has no meaning with it");
   CheckReportPaths(a.out, a.work);
 }
 

@@ -58,11 +58,7 @@ std::string MachineText() {
 void CheckArgs(const SgdoTableArgs& a) {
   const auto& t = SgdoMainTables();
   if (std::find(t.begin(), t.end(), a.table) == t.end()) throw InputError("table", "unknown table '" + a.table + "'");
-  if (a.frames < 30) throw InputError("--frames", "need at least 30 frames, got " + std::to_string(a.frames));
-  CheckSeedList(a.seeds);
-  CheckDetectionMode(a.detections);
-  CheckPresetList(a.sequences, "--sequences", false);
-  if (a.collect && a.reuse) throw InputError("--collect", "--collect only reads; --reuse has no meaning with it");
+  CheckMatrixArgs(a.frames, a.seeds, a.detections, a.sequences, a.reuse, a.collect);
   CheckReportPaths(a.out, a.work);
 }
 
