@@ -22,6 +22,7 @@
 #include "reproduce/arg_checks.h"
 #include "reproduce/paper_table.h"
 #include "reproduce/report_format.h"
+#include "reproduce/report_plots.h"
 #include "reproduce/workspace.h"
 
 namespace fs = std::filesystem;
@@ -108,6 +109,8 @@ int RunEpiTable(const EpiTableArgs& a) {
                  a.reuse);
     return OpenSequence(ws.EnsureSequence(preset));
   };
+  const std::string plot_png =
+      (fs::path(a.out).parent_path() / (fs::path(a.out).stem().string() + ".png")).string();
   std::ostringstream md;
   const std::string cmd = "dynref reproduce epi-" + a.table + " --frames " + std::to_string(a.frames) + " --seeds " +
                           SeedListText(a.seeds) + (a.table == "table2" ? " --gap " + std::to_string(a.gap) + " --features " +
@@ -124,6 +127,11 @@ int RunEpiTable(const EpiTableArgs& a) {
     md << "## Keypoints per frame (mean over frames and seeds), raw grey vs Module A enhanced\n\n"
        << "ORB: OpenCV ORB, FAST threshold 20, no count cap; SIFT: OpenCV SIFT defaults, no cap.\n\n"
        << "| Sequence | ORB raw | ORB + A | SIFT raw | SIFT + A |\n|---|---|---|---|---|\n";
+    std::vector<std::string> groups;
+    std::vector<render::BarSeries> series = {{"ORB raw", {}, {}, render::SeriesColour(4)},
+                                             {"ORB + A", {}, {}, Lighter(render::SeriesColour(4))},
+                                             {"SIFT raw", {}, {}, render::SeriesColour(5)},
+                                             {"SIFT + A", {}, {}, Lighter(render::SeriesColour(5))}};
     for (const auto& [preset, low] : std::vector<std::pair<std::string, bool>>{
              {"static_xyz", false}, {"static_xyz", true}, {"walking_xyz", false}, {"walking_xyz", true}}) {
       double sums[4] = {0, 0, 0, 0};
@@ -144,7 +152,15 @@ int RunEpiTable(const EpiTableArgs& a) {
       md << "| " << preset << (low ? " --low-light" : "") << " |";
       for (double v : sums) md << " " << Num(v / double(std::max<int64_t>(1, n)), 0) << " |";
       md << "\n";
+      groups.push_back(preset + (low ? " dark" : ""));
+      for (size_t i = 0; i < 4; ++i) series[i].value.push_back(sums[i] / double(std::max<int64_t>(1, n)));
     }
+    render::BarChartOptions bo;
+    bo.title = "Keypoints per frame, raw vs Module A enhanced (mean over frames and seeds " + SeedListText(a.seeds) + ")";
+    bo.y_label = "keypoints per frame";
+    bo.log_y = true;
+    PlotBars(groups, series, bo, plot_png);
+    md << "\n![keypoints per frame](" << fs::path(plot_png).filename().string() << ")\n";
     md << "\nPaper Table 1 (one weak-texture image, points extracted): ORB " << Num(paper.Cell("Extracting Points", "ORB"), 0)
        << ", SuperPoint " << Num(paper.Cell("Extracting Points", "Superpoint [27]"), 0) << ", XFeat "
        << Num(paper.Cell("Extracting Points", "XFeat [44]"), 0) << ", improved ZippyPoint "
@@ -208,6 +224,23 @@ int RunEpiTable(const EpiTableArgs& a) {
            << st.matches << " | " << st.verifiable << " | " << st.correct << " | " << Pct(st.correct, st.verifiable)
            << " | " << Num(st.ms / double(std::max<int64_t>(1, st.pairs)), 1) << " |\n";
       }
+    std::vector<std::string> groups;
+    std::vector<render::BarSeries> series;
+    for (size_t m = 0; m < algos.size(); ++m)
+      series.push_back({algos[m].first + " + " + algos[m].second, {}, {},
+                        m % 2 ? render::SeriesColour(4 + m / 2) : Lighter(render::SeriesColour(4 + m / 2))});
+    for (const Typology& t : typ) {
+      groups.push_back(t.name.substr(0, t.name.find(' ')));
+      for (size_t m = 0; m < algos.size(); ++m) {
+        const MatchStats& st = stats[t.name][m];
+        series[m].value.push_back(st.verifiable ? 100.0 * double(st.correct) / double(st.verifiable) : std::nan(""));
+      }
+    }
+    render::BarChartOptions bo;
+    bo.title = "Matching precision per typology (seeds " + SeedListText(a.seeds) + "), MNN2 in the darker bars";
+    bo.y_label = "precision [%]";
+    PlotBars(groups, series, bo, plot_png);
+    md << "\n![matching precision](" << fs::path(plot_png).filename().string() << ")\n";
     md << "\n## Paper Table 2 (real image pairs, 500 features, RANSAC)\n\n| Typology | Algorithm | correct pairs | accuracy % | time s |\n|---|---|---|---|---|\n";
     for (const std::vector<std::string>& c : paper.ordered)  // rows share their first cell (image number)
       if (c.size() >= 6) md << "| " << c[1] << " | " << c[2] << " | " << c[3] << " | " << c[4] << " | " << c[5] << " |\n";
