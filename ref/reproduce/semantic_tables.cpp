@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -200,10 +201,15 @@ int RunSemanticTable(const SemanticTableArgs& a) {
       sor.push_back(100.0 * (1.0 - c.mb.at("semantic_map_sor.pcd")[k] / raw));
       ot.push_back(100.0 * c.mb.at("semantic_map.ot")[k] / raw);
     }
+    // 002-filesizes.csv rows start with the dataset ("TUM"): the sequence is the second cell.
     const std::string row = PaperRow(preset);
-    md << " " << MeanSd(ratio, 1) << " | " << MeanSd(sor, 2) << " | " << MeanSd(ot, 1) << " | "
-       << Num(paper.Cell(row, "Dense point cloud before voxel filtering (MB)"), 1) << " | "
-       << Num(paper.Cell(row, "After voxel filtering (MB)"), 1) << " | " << Num(paper.Cell(row, "Ratio (%)"), 1) << " |\n";
+    const auto cell = [&](size_t column) {
+      for (const auto& r : paper.ordered)
+        if (!row.empty() && r.size() > column && r[1] == row) return std::strtod(r[column].c_str(), nullptr);
+      return std::nan("");
+    };
+    md << " " << MeanSd(ratio, 1) << " | " << MeanSd(sor, 2) << " | " << MeanSd(ot, 1) << " | " << Num(cell(2), 1)
+       << " | " << Num(cell(3), 1) << " | " << Num(cell(4), 1) << " |\n";
   }
   md << "\nPCD files are binary with x y z rgb (16 bytes per point), so MB follow the point counts. The paper: "
         "SOR removed ~1.24 % of the points, the octree file is 16.5-35 % of the dense map, voxel output 18-54.6 % "
