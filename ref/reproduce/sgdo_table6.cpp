@@ -142,10 +142,11 @@ int RunSgdoTable6(const Table6Args& a) {
   std::vector<MethodConfig> configs;
   for (const Variant& v : variants) configs.push_back(v.Config());
 
-  const auto paper_cell_rmse = [&](const Variant& v, const std::string& preset) {
+  // The paper's value of a column (ORB-SLAM2 from Table 1, the variants from Table 6); NaN if none.
+  const auto paper_cell = [&](const Variant& v, const std::string& preset, const std::string& stat) {
     const auto [r6, r1] = PaperRows(preset);
-    if (v.config_name == "orb") return t1.Cell(r1, "ORB-SLAM2 RMSE");
-    return v.paper.empty() ? std::nan("") : t6.Cell(r6, v.paper + " RMSE");
+    if (v.config_name == "orb") return t1.Cell(r1, "ORB-SLAM2 " + stat);
+    return v.paper.empty() ? std::nan("") : t6.Cell(r6, v.paper + " " + stat);
   };
   const std::vector<std::pair<double, double>> grid = SensitivityGrid();
   std::map<std::string, Cells> results;  // preset -> [variant][seed]
@@ -199,7 +200,7 @@ int RunSgdoTable6(const Table6Args& a) {
       const std::vector<double> r = Rmse(results[preset][v]);
       ours.value.push_back(Mean(r));
       ours.error.push_back(r.size() > 1 ? ComputeErrorStats(r).std : std::nan(""));
-      theirs.value.push_back(paper_cell_rmse(variants[v], preset));
+      theirs.value.push_back(paper_cell(variants[v], preset, "RMSE"));
     }
     render::BarChartOptions bo;
     bo.width = 1200;
@@ -254,11 +255,6 @@ int RunSgdoTable6(const Table6Args& a) {
     md << "\n|---|";
     for (size_t i = 0; i < variants.size(); ++i) md << "---|";
     md << "\n";
-  };
-  const auto paper_cell = [&](const Variant& v, const std::string& preset, const std::string& stat) {
-    const auto [r6, r1] = PaperRows(preset);
-    if (v.config_name == "orb") return t1.Cell(r1, "ORB-SLAM2 " + stat);
-    return v.paper.empty() ? std::nan("") : t6.Cell(r6, v.paper + " " + stat);
   };
   md << "\n## ATE RMSE (m): dynref on synthetic data (mean ± S.D. over seeds) | paper on TUM (one run)\n\n";
   header("Sequence");
