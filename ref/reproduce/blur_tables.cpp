@@ -199,7 +199,7 @@ int RunBlurTable(const BlurTableArgs& a) {
     md << "| Sequence |";
     for (const BlurVariant& v : variants) md << " " << v.label << " |";
     for (const BlurVariant& v : variants)
-      if (!v.paper.empty()) md << " paper " << v.paper << " |";
+      if (!v.paper.empty()) md << " paper " << v.paper << " RMSE / S.D. |";
     md << " tracked |\n|---|";
     for (const BlurVariant& v : variants) md << "---|" << (v.paper.empty() ? "" : "---|");
     md << "---|\n";
@@ -209,7 +209,8 @@ int RunBlurTable(const BlurTableArgs& a) {
       md << "| " << preset << (row.empty() ? "" : " (" + row + ")") << " |";
       for (const Cell& c : grid[preset]) md << " " << MeanSd(c.rmse) << " |";
       for (const BlurVariant& v : variants)
-        if (!v.paper.empty()) md << " " << Num(pt.Cell(row, v.paper + " RMSE"), 4) << " |";
+        if (!v.paper.empty())
+          md << " " << Num(pt.Cell(row, v.paper + " RMSE"), 4) << " / " << Num(pt.Cell(row, v.paper + " S.D."), 4) << " |";
       int tracked = 0, frames = 0;
       for (const Cell& c : grid[preset]) tracked += c.tracked, frames += c.frames;
       md << " " << Pct(tracked, frames) << " % |\n";
