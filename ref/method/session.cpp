@@ -18,6 +18,7 @@ Session::Session(const std::string& config_path, const std::vector<StageConfig>&
     } else if (const MapModuleFactory* m = registry.FindMapModule(sc.name)) {
       c.map_module = (*m)(sc.params, shared_);
       map_modules_.push_back(c.map_module.get());
+      map_ms_.push_back(0.0);
     } else {
       std::string known;
       for (const std::string& n : registry.Names()) known += (known.empty() ? "" : ", ") + n;
@@ -44,15 +45,24 @@ void Session::Run(Hook hook, StageContext& ctx) {
 std::vector<std::pair<std::string, double>> Session::StageTimes() const {
   std::vector<std::pair<std::string, double>> out;
   for (size_t i = 0; i < stages_.size(); ++i) out.emplace_back(stages_[i]->name(), stage_ms_[i]);
+  for (size_t i = 0; i < map_modules_.size(); ++i) out.emplace_back(map_modules_[i]->name(), map_ms_[i]);
   return out;
 }
 
 void Session::OnKeyFrame(const MapModuleContext& ctx) {
-  for (MapModule* m : map_modules_) m->OnKeyFrame(ctx);
+  for (size_t i = 0; i < map_modules_.size(); ++i) {
+    const double t0 = ThreadCpuMs();
+    map_modules_[i]->OnKeyFrame(ctx);
+    map_ms_[i] += ThreadCpuMs() - t0;
+  }
 }
 
 void Session::OnMapUpdate(const MapModuleContext& ctx) {
-  for (MapModule* m : map_modules_) m->OnMapUpdate(ctx);
+  for (size_t i = 0; i < map_modules_.size(); ++i) {
+    const double t0 = ThreadCpuMs();
+    map_modules_[i]->OnMapUpdate(ctx);
+    map_ms_[i] += ThreadCpuMs() - t0;
+  }
 }
 
 void Session::OnLandmarkEvent(const LandmarkEvent& event) {

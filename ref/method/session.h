@@ -33,7 +33,8 @@ class Session : public LandmarkObserver {
   // and the others still run.
   SessionEnd Finish(const Map& map, const std::string& out_dir);
 
-  // CPU ms spent in each stage's Run over the whole run (thread CPU clock), config order.
+  // CPU ms spent in each stage's Run, then in each map module's OnKeyFrame + OnMapUpdate, over the
+  // whole run (thread CPU clock), config order within each kind.
   std::vector<std::pair<std::string, double>> StageTimes() const;
   size_t stage_count() const { return stages_.size(); }
   size_t map_module_count() const { return map_modules_.size(); }
@@ -48,6 +49,7 @@ class Session : public LandmarkObserver {
   std::vector<Component> components_;  // config order
   std::vector<Stage*> stages_;
   std::vector<double> stage_ms_;  // parallel to stages_
+  std::vector<double> map_ms_;    // parallel to map_modules_: OnKeyFrame + OnMapUpdate (not Finish)
   std::vector<MapModule*> map_modules_;
 };
 
