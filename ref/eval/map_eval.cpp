@@ -104,9 +104,14 @@ SE3 MapToGroundTruth(const TumTrajectory& gt, const TumTrajectory& est, MapAlign
 MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const dense::TriangleMesh& static_mesh,
                           const dense::PointCloud& static_observed, const dense::PointCloud& movers,
                           const MapEvalOptions& o) {
+  return EvaluateMap(map, MeshDistance(static_mesh, o.sample_m), static_observed, movers, o);
+}
+
+MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const MeshDistance& to_static,
+                          const dense::PointCloud& static_observed, const dense::PointCloud& movers,
+                          const MapEvalOptions& o) {
   MapEvalResult r;
   r.map_points = map.size();
-  const MeshDistance to_static(static_mesh, o.sample_m);
   std::vector<Eigen::Vector3f> mover_points;
   for (const auto& p : movers) mover_points.emplace_back(p.x, p.y, p.z);
   const geometry::PointIndex3D mover_index(std::move(mover_points));

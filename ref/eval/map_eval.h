@@ -63,7 +63,12 @@ Eigen::Vector3d ClosestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Ve
 enum class MapAlign { kFirstCamera, kAte };
 SE3 MapToGroundTruth(const TumTrajectory& gt, const TumTrajectory& est, MapAlign mode, double* ate_rmse = nullptr);
 
-// `map` already in the ground-truth frame.
+// `map` already in the ground-truth frame; static_distance built on the static scene mesh (build it
+// once when several maps of one sequence are evaluated).
+MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const MeshDistance& static_distance,
+                          const dense::PointCloud& static_observed, const dense::PointCloud& movers,
+                          const MapEvalOptions& options);
+// The same, building the mesh index with options.sample_m.
 MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const dense::TriangleMesh& static_mesh,
                           const dense::PointCloud& static_observed, const dense::PointCloud& movers,
                           const MapEvalOptions& options);

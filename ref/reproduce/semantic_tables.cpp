@@ -84,14 +84,17 @@ NonPriorCounts ReplayNonPrior(const std::string& seq_dir, const std::string& det
     const semantic::InstanceClasses cls = semantic::ClassifyInstances(det, LoadDepthMeters(seq, f), o);
     const cv::Mat gt_ids = gt.Read(f.rgb_stamp_text).instance_ids;
     const std::set<int> moving = gt.Moving(f.rgb_stamp_text);
+    // One pass over the frame: detection instance -> GT instance -> pixels under its mask.
+    std::map<int, std::map<int, int>> votes;
+    if (!det.instance_ids.empty() && !gt_ids.empty())
+      for (int y = 0; y < gt_ids.rows; ++y)
+        for (int x = 0; x < gt_ids.cols; ++x) {
+          const int d = det.instance_ids.at<uint16_t>(y, x);
+          if (d != 0 && cls.prior_static.count(d)) ++votes[d][gt_ids.at<uint16_t>(y, x)];
+        }
     for (int id : cls.prior_static) {
-      std::map<int, int> votes;  // GT instance -> pixels under this detection's mask
-      if (!det.instance_ids.empty() && !gt_ids.empty())
-        for (int y = 0; y < gt_ids.rows; ++y)
-          for (int x = 0; x < gt_ids.cols; ++x)
-            if (det.instance_ids.at<uint16_t>(y, x) == id) ++votes[gt_ids.at<uint16_t>(y, x)];
       int best = 0, best_n = 0;
-      for (const auto& [g, n] : votes)
+      for (const auto& [g, n] : votes[id])
         if (g != 0 && n > best_n) best = g, best_n = n;
       const bool truth = best != 0 && moving.count(best) > 0;
       const bool said = cls.non_prior_dynamic.count(id) > 0;
@@ -139,6 +142,7 @@ int RunSemanticTable(const SemanticTableArgs& a) {
       Cell& c = cells[preset];
       const TumTrajectory gt = ReadTumTrajectory(seq + "/groundtruth.txt");
       const dense::TriangleMesh mesh = dense::ReadPlyMesh(seq + "/gt/static_scene.ply");
+      const MeshDistance to_static(mesh, MapEvalOptions{}.sample_m);  // one index for the three maps
       const dense::PointCloud observed = dense::ReadPly(seq + "/gt/static_observed.ply");
       const dense::PointCloud movers = dense::ReadPly(seq + "/gt/movers_observed.ply");
       for (size_t v = 0; v < MapVariants().size(); ++v) {
@@ -152,7 +156,7 @@ int RunSemanticTable(const SemanticTableArgs& a) {
         map.reserve(cloud.size());
         for (const auto& p : cloud) map.push_back(T * Eigen::Vector3d(p.x, p.y, p.z));
         std::cerr << "reproduce: map-eval " << preset << "/" << MapVariants()[v].config << "\n";
-        c.quality[v].push_back(EvaluateMap(map, mesh, observed, movers, MapEvalOptions{}));
+        c.quality[v].push_back(EvaluateMap(map, to_static, observed, movers, MapEvalOptions{}));
       }
       const NonPriorCounts n = ReplayNonPrior(seq, a.detections, mask_options);
       c.non_prior.tp += n.tp, c.non_prior.fp += n.fp, c.non_prior.fn += n.fn, c.non_prior.tn += n.tn;

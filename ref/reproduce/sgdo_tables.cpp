@@ -221,6 +221,7 @@ int RunSgdoTable(const SgdoTableArgs& a) {
     md << "\nPaper's SGDO-SLAM column here equals its Table 6 (S+G+D+O) and differs from its Table 1 on "
           "fr3_w_xyz and fr3_w_half (see `reports/paper-tables/001-table1.csv`).\n";
   } else {  // table7
+    const std::string machine = MachineText();  // /proc/cpuinfo, read once
     std::vector<double> slam[2], total[2];
     for (const std::string& preset : a.sequences)
       for (size_t m = 0; m < 2; ++m)
@@ -234,13 +235,13 @@ int RunSgdoTable(const SgdoTableArgs& a) {
        << "PNG decoding. The masks are precomputed synthetic detections: no segmentation network time is "
           "included (the paper's 38.81 ms includes YOLOv8-seg on a GPU). Runs keep a full trace, whose writing "
           "is included. Machine: "
-       << MachineText() << ". These numbers change with the machine and its load; the rest of the report does not.\n\n"
+       << machine << ". These numbers change with the machine and its load; the rest of the report does not.\n\n"
        << "| System | ms per frame | hardware | source |\n|---|---|---|---|\n";
     for (const auto& row : paper.ordered)
       if (row.size() >= 3) md << "| " << row[0] << " | " << row[1] << " | " << row[2] << " | paper" << (row[0].rfind("SGDO", 0) == 0 || row[0] == "ORB-SLAM2" ? "" : " (not run by dynref)") << " |\n";
     for (size_t m = 0; m < 2; ++m)
       md << "| dynref " << (m == kOrb ? "ORB-SLAM2 (orb)" : "SGDO-SLAM (sgdo_nodense)") << " | SLAM " << MeanSd(slam[m], 2)
-         << ", total " << MeanSd(total[m], 2) << " | " << MachineText() << ", 1 thread | dynref |\n";
+         << ", total " << MeanSd(total[m], 2) << " | " << machine << ", 1 thread | dynref |\n";
     // Per-module bars (run.json timing modules, method stages summed) of orb and sgdo.
     const std::vector<std::pair<std::string, std::string>> modules = {
         {"load", "load"}, {"extraction", "extraction"}, {"stages", "stages"}, {"tracking", "tracking"},
@@ -266,7 +267,7 @@ int RunSgdoTable(const SgdoTableArgs& a) {
     md << "\nrun.json `timing` modules: load = PNG decoding, stages = the method's stages summed (`timing_stages`), "
           "tracking includes the stages, mapping = local mapping, BA = local bundle adjustment, SLAM = everything after load.\n";
     render::BarChartOptions bo;
-    bo.title = "CPU ms per frame per module (" + MachineText() + ")";
+    bo.title = "CPU ms per frame per module (" + machine + ")";
     bo.y_label = "ms per frame";
     PlotBars(groups, series, bo, stem + ".png");
     plots.push_back({"Per-module CPU time", fs::path(stem + ".png").filename().string()});
