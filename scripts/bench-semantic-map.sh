@@ -35,17 +35,18 @@ for n in "${LENGTHS[@]}"; do
   rows+=$(python3 - "$run/run.json" "$rss_kb" "$wall_s" "$n" <<'PY'
 import json, re, sys
 run, rss_kb, wall, n = json.load(open(sys.argv[1])), float(sys.argv[2]), float(sys.argv[3]), int(sys.argv[4])
-kf = run["keyframes"]
+kept = run["keyframes"]
+kf = run["keyframes_created"]  # the map module ran once per inserted keyframe, culled ones included
 frames = run["frames_processed"]
 lm = run["timing"]["local_mapping"]["mean_ms_per_frame"] * frames / kf
 mm = run["timing_stages"]["semantic.map"] * frames / kf
 raw = next(o for o in run["outputs"] if o["path"].endswith("_raw.pcd"))
 pts = int(re.search(r"(\d+) points", raw["what"]).group(1))
-print(f"| {n} | {kf} | {mm:.1f} | {lm:.1f} | {rss_kb/1024:.0f} | {rss_kb/1024/kf:.2f} | {pts/kf:.0f} | {wall:.0f} |")
+print(f"| {n} | {kf} | {kept} | {mm:.1f} | {lm:.1f} | {rss_kb/1024:.0f} | {rss_kb/1024/kept:.2f} | {pts/kept:.0f} | {wall:.0f} |")
 PY
 )$'\n'
 done
-table="| frames | keyframes | semantic.map ms / keyframe | local mapping ms / keyframe | peak RSS MB | RSS MB / keyframe | raw points / keyframe | wall s |
-|---|---|---|---|---|---|---|---|
+table="| frames | keyframes inserted | keyframes kept | semantic.map ms / inserted keyframe | local mapping ms / inserted keyframe | peak RSS MB | RSS MB / kept keyframe | raw points / kept keyframe | wall s |
+|---|---|---|---|---|---|---|---|---|
 $rows"
 printf '%s' "$table" | tee "$OUT/semantic_map_growth.md"

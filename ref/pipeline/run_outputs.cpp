@@ -87,6 +87,9 @@ void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop&
   j["frames_all_features_excluded"] = loop.frames_all_excluded();
   j["tracking_rate"] = result.frames > 0 ? static_cast<double>(result.tracked) / result.frames : 0.0;
   j["keyframes"] = result.keyframes;
+  // Every keyframe ever inserted (ids are never reused), culled ones included: per-keyframe costs of map
+  // modules divide by this, since they ran once per inserted keyframe.
+  j["keyframes_created"] = loop.map().next_kf_id();
   j["map_points"] = loop.map().GoodPointCount();
   j["local_ba_calls"] = loop.mapper().ba_calls();
   j["trace_level"] = options.trace_level;
