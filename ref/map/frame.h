@@ -16,6 +16,7 @@
 #include "core/se3.h"
 #include "io/camera.h"
 #include "io/mask_format.h"
+#include "map/structure.h"
 
 namespace dynref {
 namespace trace {
@@ -57,6 +58,8 @@ class Frame {
 
   SE3 T_cw = SE3::Identity();
   bool has_pose = false;
+
+  FrameStructure structure;           // lines and planes (empty unless the config enables them)
 
   const FrameDetections* detections = nullptr;  // nullable
   const Camera* camera = nullptr;

@@ -179,10 +179,14 @@ void Map::RemoveObserver(LandmarkObserver* observer) {
 }
 
 void Map::Notify(LandmarkEvent::Kind kind, int64_t mp_id, int64_t by_id) {
+  NotifyTyped(kind, LandmarkType::kPoint, mp_id, by_id);
+}
+
+void Map::NotifyTyped(LandmarkEvent::Kind kind, LandmarkType type, int64_t id, int64_t by_id) {
   if (observers_.empty()) return;
   LandmarkEvent e;
   e.kind = kind;
-  e.landmark = {LandmarkType::kPoint, mp_id};
+  e.landmark = {type, id};
   e.by_id = by_id;
   for (LandmarkObserver* o : observers_) o->OnLandmarkEvent(e);
 }
@@ -209,6 +213,7 @@ void Map::SetBadKeyFrame(int64_t kf_id) {
     if (kv.second->parent == kf_id && !kv.second->bad) kv.second->parent = k->parent;
   const KeyFrame* parent = kf(k->parent);
   if (parent != nullptr) k->T_cp = k->T_cw * parent->T_cw.inverse();
+  EraseStructureObservations(*k);
   k->connections.clear();
   k->ordered_covisibles.clear();
   k->bad = true;

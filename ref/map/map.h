@@ -12,6 +12,7 @@
 #include "core/se3.h"
 #include "map/frame.h"
 #include "map/landmark.h"
+#include "map/structure.h"
 
 namespace dynref {
 
@@ -74,6 +75,8 @@ class Map {
  public:
   std::map<int64_t, std::unique_ptr<KeyFrame>> keyframes;
   std::map<int64_t, std::unique_ptr<MapPoint>> points;
+  std::map<int64_t, std::unique_ptr<MapLine>> lines;    // structure landmarks (map/structure.h)
+  std::map<int64_t, std::unique_ptr<MapPlane>> planes;
 
   KeyFrame* AddKeyFrame(std::unique_ptr<KeyFrame> kf);
   MapPoint* NewMapPoint(const Eigen::Vector3d& X_w, int64_t ref_kf, int frame_index);
@@ -101,6 +104,22 @@ class Map {
   // Recomputes covisibility weights of kf (>= 15 shared points, else the best one).
   void UpdateConnections(int64_t kf_id);
 
+  // ---- line and plane landmarks (structure_map.cpp) ----
+  MapLine* NewMapLine(const Eigen::Vector3d& P_s, const Eigen::Vector3d& P_e, const cv::Mat& descriptor,
+                      int64_t kf_id, int frame_index);
+  MapPlane* NewMapPlane(const Eigen::Vector3d& n_w, double d_w, int64_t kf_id, int frame_index);
+  MapLine* good_line(int64_t id);
+  const MapLine* good_line(int64_t id) const;
+  MapPlane* good_plane(int64_t id);
+  const MapPlane* good_plane(int64_t id) const;
+  void AddLineObservation(int64_t line_id, int64_t kf_id, int idx);
+  void AddPlaneObservation(int64_t plane_id, int64_t kf_id, int idx);
+  void SetBadLine(int64_t line_id);    // culled: observations dropped, event kCulled
+  // Plane merging: every observation of `plane_id` moves to `by_id` (event kReplaced).
+  void ReplacePlane(int64_t plane_id, int64_t by_id);
+  size_t GoodLineCount() const;
+  size_t GoodPlaneCount() const;
+
   // ---- landmark lifecycle events (landmark.h) ----
   // Observers are called in registration order, synchronously, when a point is created, replaced
   // or set bad; they must not modify the map. Not owned.
@@ -109,9 +128,12 @@ class Map {
 
  private:
   void Notify(LandmarkEvent::Kind kind, int64_t mp_id, int64_t by_id = -1);
+  void NotifyTyped(LandmarkEvent::Kind kind, LandmarkType type, int64_t id, int64_t by_id = -1);
+  void EraseStructureObservations(KeyFrame& k);  // keyframe culling
   std::vector<LandmarkObserver*> observers_;
   int64_t next_kf_id_ = 0;
   int64_t next_mp_id_ = 0;
+  int64_t next_line_id_ = 0, next_plane_id_ = 0;
 };
 
 }  // namespace dynref

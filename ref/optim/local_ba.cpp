@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "optim/optim.h"
 #include "optim/reprojection.h"
+#include "optim/structure_residuals.h"
 #include "trace/trace_writer.h"
 
 namespace dynref::optim {
@@ -29,6 +30,15 @@ namespace {
 struct BAEdge : EdgeModel {
   size_t kf = 0;     // index into keyframes
   size_t point = 0;  // index into points
+};
+
+// Gauge prior of line endpoints along their line (structure_residuals.h): 0.1 m, loose enough
+// to be inert where the images constrain, tight enough to stop drift along the null space.
+constexpr double kLineGaugeSigmaM = 0.1;
+
+// A line or plane observation: its observation index, keyframe index and landmark index.
+struct StructureEdge {
+  size_t obs = 0, kf = 0, landmark = 0;
 };
 
 // chi2 of one edge at the current parameters (EdgeChi2 in reprojection.h; ORB-SLAM2:
@@ -57,12 +67,18 @@ class BAProblem {
  public:
   BAProblem(const Intrinsics& K, const std::vector<BAKeyFrame>& keyframes,
             const std::vector<BAPoint>& points, const std::vector<BAEdge>& edges,
-            const LocalBAOptions& options)
+            const LocalBAOptions& options, const LocalBAStructure& st, const std::vector<StructureEdge>& line_edges,
+            const std::vector<StructureEdge>& plane_edges)
       : K_(K),
         keyframes_(keyframes),
         edges_(edges),
+        st_(st),
+        line_edges_(line_edges),
+        plane_edges_(plane_edges),
         huber_mono_(std::sqrt(options.chi2_mono)),
-        huber_stereo_(std::sqrt(options.chi2_stereo)) {
+        huber_stereo_(std::sqrt(options.chi2_stereo)),
+        huber_line_(std::sqrt(st.options.LineChi2())),
+        huber_plane_(std::sqrt(st.options.chi2_plane)) {
     pose_params_.resize(keyframes.size() * 7);
     for (size_t k = 0; k < keyframes.size(); ++k)
       PoseToParams(keyframes[k].T_cw, &pose_params_[k * 7]);
@@ -84,10 +100,49 @@ class BAProblem {
         costs_[i] = std::make_unique<BACost<2>>(K, e.obs, s);
       }
     }
+    line_params_.resize(st.lines.size() * 6);
+    for (size_t k = 0; k < st.lines.size(); ++k)
+      for (int c = 0; c < 3; ++c) line_params_[k * 6 + c] = st.lines[k].P_s[c], line_params_[k * 6 + 3 + c] = st.lines[k].P_e[c];
+    plane_n_.resize(st.planes.size() * 3);
+    plane_d_.resize(st.planes.size());
+    for (size_t k = 0; k < st.planes.size(); ++k) {
+      for (int c = 0; c < 3; ++c) plane_n_[k * 3 + c] = st.planes[k].n[c];
+      plane_d_[k] = st.planes[k].d;
+    }
+    for (const BALine& L : st.lines)
+      gauge_costs_.push_back(std::make_unique<LineGaugePrior>(L.P_s, L.P_e, kLineGaugeSigmaM));
+    for (const StructureEdge& e : line_edges) {
+      const BALineObservation& o = st.line_observations[e.obs];
+      line_costs_.push_back(
+          std::make_unique<LineBACost>(K, o.l, o.has_companion ? &o.l_companion : nullptr, o.weight, st.options));
+    }
+    for (const StructureEdge& e : plane_edges) {
+      const BAPlaneObservation& o = st.plane_observations[e.obs];
+      plane_costs_.push_back(std::make_unique<PlaneBACost>(o.n_obs, o.d_obs, o.weight, st.options));
+    }
+  }
+
+  // Observation models at the current parameters (for chi2 / classification).
+  LineObservation LineAt(const StructureEdge& e) const {
+    const BALineObservation& o = st_.line_observations[e.obs];
+    LineObservation m;
+    const Eigen::Vector3d Ps(&line_params_[e.landmark * 6]), Pe(&line_params_[e.landmark * 6 + 3]);
+    m.X_w = {Ps, 0.5 * (Ps + Pe), Pe};
+    m.l = o.l, m.l_companion = o.l_companion, m.has_companion = o.has_companion, m.weight = o.weight;
+    return m;
+  }
+  PlaneObservationResidual PlaneAt(const StructureEdge& e) const {
+    const BAPlaneObservation& o = st_.plane_observations[e.obs];
+    PlaneObservationResidual m;
+    m.n_w = Eigen::Vector3d(&plane_n_[e.landmark * 3]);
+    m.d_w = plane_d_[e.landmark];
+    m.n_obs = o.n_obs, m.d_obs = o.d_obs, m.weight = o.weight;
+    return m;
   }
 
   // Runs `iterations` LM iterations over the edges with active[i] != 0.
-  void Solve(int iterations, bool robust, const std::vector<uint8_t>& active) {
+  void Solve(int iterations, bool robust, const std::vector<uint8_t>& active,
+             const std::vector<uint8_t>& line_active, const std::vector<uint8_t>& plane_active) {
     if (iterations <= 0) return;
     ceres::Problem::Options problem_options;
     problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -118,6 +173,47 @@ class BAProblem {
       problem.AddResidualBlock(costs_[i].get(), robust ? loss : nullptr, pose, point);
       ++added;
     }
+    const auto add_pose = [&](size_t kf) {
+      double* pose = &pose_params_[kf * 7];
+      if (!pose_added[kf]) {
+        problem.AddParameterBlock(pose, 7, &manifold_);
+        if (keyframes_[kf].fixed) problem.SetParameterBlockConstant(pose);
+        ordering->AddElementToGroup(pose, 1);
+        pose_added[kf] = 1;
+      }
+      return pose;
+    };
+    std::vector<uint8_t> line_added(st_.lines.size(), 0), plane_added(st_.planes.size(), 0);
+    for (size_t i = 0; i < line_edges_.size(); ++i) {
+      const StructureEdge& e = line_edges_[i];
+      if (!line_active[i] || !(st_.line_observations[e.obs].weight > 0)) continue;
+      double* pose = add_pose(e.kf);
+      double* line = &line_params_[e.landmark * 6];
+      if (!line_added[e.landmark]) {
+        problem.AddParameterBlock(line, 6);
+        ordering->AddElementToGroup(line, 0);  // eliminated with the points
+        problem.AddResidualBlock(gauge_costs_[e.landmark].get(), nullptr, line);
+        line_added[e.landmark] = 1;
+      }
+      problem.AddResidualBlock(line_costs_[i].get(), robust ? &huber_line_ : nullptr, pose, line);
+      ++added;
+    }
+    for (size_t i = 0; i < plane_edges_.size(); ++i) {
+      const StructureEdge& e = plane_edges_[i];
+      if (!plane_active[i] || !(st_.plane_observations[e.obs].weight > 0)) continue;
+      double* pose = add_pose(e.kf);
+      double* n = &plane_n_[e.landmark * 3];
+      double* d = &plane_d_[e.landmark];
+      if (!plane_added[e.landmark]) {
+        problem.AddParameterBlock(n, 3, &sphere_);
+        problem.AddParameterBlock(d, 1);
+        ordering->AddElementToGroup(n, 1);  // two blocks of one residual: not both eliminable
+        ordering->AddElementToGroup(d, 1);
+        plane_added[e.landmark] = 1;
+      }
+      problem.AddResidualBlock(plane_costs_[i].get(), robust ? &huber_plane_ : nullptr, pose, n, d);
+      ++added;
+    }
     if (added == 0) {
       delete ordering;
       return;
@@ -127,6 +223,10 @@ class BAProblem {
     opts.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
     opts.linear_solver_type = ceres::DENSE_SCHUR;  // fixed solver choice (determinism)
     opts.linear_solver_ordering.reset(ordering);
+    if (ordering->GroupSize(0) == 0) {  // planes only: nothing to eliminate
+      opts.linear_solver_type = ceres::DENSE_QR;
+      opts.linear_solver_ordering.reset();
+    }
     opts.max_num_iterations = iterations;
     opts.num_threads = 1;
     opts.logging_type = ceres::SILENT;
@@ -143,6 +243,10 @@ class BAProblem {
     }
     return T;
   }
+  std::pair<Eigen::Vector3d, Eigen::Vector3d> Line(size_t k) const {
+    return {Eigen::Vector3d(&line_params_[k * 6]), Eigen::Vector3d(&line_params_[k * 6 + 3])};
+  }
+  std::pair<Eigen::Vector3d, double> Plane(size_t k) const { return {Eigen::Vector3d(&plane_n_[k * 3]), plane_d_[k]}; }
   std::vector<Eigen::Vector3d> Points() const {
     std::vector<Eigen::Vector3d> X(point_params_.size() / 3);
     for (size_t p = 0; p < X.size(); ++p) {
@@ -156,12 +260,20 @@ class BAProblem {
   const Intrinsics& K_;
   const std::vector<BAKeyFrame>& keyframes_;
   const std::vector<BAEdge>& edges_;
+  const LocalBAStructure& st_;
+  const std::vector<StructureEdge>& line_edges_;
+  const std::vector<StructureEdge>& plane_edges_;
   std::vector<double> pose_params_;
+  std::vector<double> line_params_, plane_n_, plane_d_;
+  ceres::SphereManifold<3> sphere_;
   std::vector<double> point_params_;
   PoseManifold manifold_;
   ceres::HuberLoss huber_mono_;
   ceres::HuberLoss huber_stereo_;
+  ceres::HuberLoss huber_line_, huber_plane_;
   std::vector<std::unique_ptr<ceres::CostFunction>> costs_;  // per edge, both phases
+  std::vector<std::unique_ptr<ceres::CostFunction>> line_costs_, plane_costs_;
+  std::vector<std::unique_ptr<ceres::CostFunction>> gauge_costs_;  // per line (LineGaugePrior)
 };
 
 }  // namespace
@@ -171,7 +283,18 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
                                 const std::vector<BAObservation>& observations,
                                 const LocalBAOptions& options, trace::TraceWriter* trace,
                                 const std::string& call_id) {
+  return LocalBundleAdjust(K, keyframes, points, observations, nullptr, options, trace, call_id);
+}
+
+LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFrame>& keyframes,
+                                const std::vector<BAPoint>& points,
+                                const std::vector<BAObservation>& observations, const LocalBAStructure* structure,
+                                const LocalBAOptions& options, trace::TraceWriter* trace,
+                                const std::string& call_id) {
   options.Check();
+  static const LocalBAStructure kNoStructure;
+  const LocalBAStructure& st = structure != nullptr ? *structure : kNoStructure;
+  st.options.Check();
   const std::map<int64_t, size_t> kf_index = IndexById(keyframes, "keyframe");
   const std::map<int64_t, size_t> point_index = IndexById(points, "point");
   const size_t n = observations.size();
@@ -195,9 +318,39 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
                                                options.chi2_stereo, options.weighted_outlier_test);
   }
 
+  std::vector<StructureEdge> line_edges(st.line_observations.size()), plane_edges(st.plane_observations.size());
+  {
+    const std::map<int64_t, size_t> line_index = IndexById(st.lines, "line");
+    const std::map<int64_t, size_t> plane_index = IndexById(st.planes, "plane");
+    for (size_t i = 0; i < line_edges.size(); ++i) {
+      const BALineObservation& o = st.line_observations[i];
+      const auto kf = kf_index.find(o.kf_id);
+      const auto l = line_index.find(o.line_id);
+      if (kf == kf_index.end() || l == line_index.end() || !(o.weight >= 0))
+        throw InputError("LocalBundleAdjust", "line observation " + std::to_string(i) + ": unknown id or negative weight");
+      line_edges[i] = {i, kf->second, l->second};
+    }
+    for (size_t i = 0; i < plane_edges.size(); ++i) {
+      const BAPlaneObservation& o = st.plane_observations[i];
+      const auto kf = kf_index.find(o.kf_id);
+      const auto p = plane_index.find(o.plane_id);
+      if (kf == kf_index.end() || p == plane_index.end() || !(o.weight >= 0))
+        throw InputError("LocalBundleAdjust", "plane observation " + std::to_string(i) + ": unknown id or negative weight");
+      plane_edges[i] = {i, kf->second, p->second};
+    }
+  }
   const bool log = trace != nullptr && trace->full_enabled();
   std::vector<std::vector<double>> residual_start(log ? n : 0);
-  BAProblem problem(K, keyframes, points, edges, options);
+  std::vector<std::vector<double>> line_start(log ? line_edges.size() : 0), plane_start(log ? plane_edges.size() : 0);
+  BAProblem problem(K, keyframes, points, edges, options, st, line_edges, plane_edges);
+  const double line_th = st.options.LineChi2(), plane_th = st.options.chi2_plane;
+  const auto line_chi2 = [&](const std::vector<SE3>& T, size_t i, std::vector<double>* raw, double* weighted) {
+    return LineChi2(K, T[line_edges[i].kf], problem.LineAt(line_edges[i]), st.options, raw, weighted);
+  };
+  const auto plane_chi2 = [&](const std::vector<SE3>& T, size_t i, std::vector<double>* raw, double* weighted) {
+    return PlaneChi2(T[plane_edges[i].kf], problem.PlaneAt(plane_edges[i]), st.options, raw, weighted);
+  };
+  std::vector<uint8_t> line_active(line_edges.size(), 0), plane_active(plane_edges.size(), 0);
 
   // Only edges with a valid projection at the start enter the robust phase.
   std::vector<uint8_t> active(n, 0);
@@ -208,9 +361,13 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
       const double c = EdgeChi2(K, T, X, edges[i], log ? &residual_start[i] : nullptr);
       active[i] = std::isfinite(c) ? 1 : 0;
     }
+    for (size_t i = 0; i < line_edges.size(); ++i)
+      line_active[i] = std::isfinite(line_chi2(T, i, log ? &line_start[i] : nullptr, nullptr)) ? 1 : 0;
+    for (size_t i = 0; i < plane_edges.size(); ++i)
+      plane_active[i] = std::isfinite(plane_chi2(T, i, log ? &plane_start[i] : nullptr, nullptr)) ? 1 : 0;
   }
   // Phase 1: Huber (ORB-SLAM2 optimize(5)).
-  problem.Solve(options.iterations_robust, /*robust=*/true, active);
+  problem.Solve(options.iterations_robust, /*robust=*/true, active, line_active, plane_active);
   // Outlier removal: chi2 > threshold or depth not positive (ORB-SLAM2 setLevel(1)).
   {
     const std::vector<SE3> T = problem.Poses();
@@ -219,9 +376,13 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
       if (!active[i]) continue;
       active[i] = EdgeChi2(K, T, X, edges[i], nullptr) <= edges[i].threshold ? 1 : 0;
     }
+    for (size_t i = 0; i < line_edges.size(); ++i)
+      if (line_active[i]) line_active[i] = line_chi2(T, i, nullptr, nullptr) <= line_th ? 1 : 0;
+    for (size_t i = 0; i < plane_edges.size(); ++i)
+      if (plane_active[i]) plane_active[i] = plane_chi2(T, i, nullptr, nullptr) <= plane_th ? 1 : 0;
   }
   // Phase 2: no robust kernel, outliers excluded (ORB-SLAM2 optimize(10)).
-  problem.Solve(options.iterations_refine, /*robust=*/false, active);
+  problem.Solve(options.iterations_refine, /*robust=*/false, active, line_active, plane_active);
 
   LocalBAResult result;
   const std::vector<SE3> T = problem.Poses();
@@ -245,6 +406,33 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
     }
   }
   result.chi2 = chi2;
+  for (size_t k = 0; k < st.lines.size(); ++k) result.line_P[st.lines[k].id] = problem.Line(k);
+  for (size_t k = 0; k < st.planes.size(); ++k) result.plane[st.planes[k].id] = problem.Plane(k);
+  result.line_inlier.assign(line_edges.size(), 0);
+  result.plane_inlier.assign(plane_edges.size(), 0);
+  for (size_t i = 0; i < line_edges.size(); ++i) {
+    double weighted = 0;
+    const double c = line_chi2(T, i, log ? &residual_end : nullptr, &weighted);
+    result.line_inlier[i] = line_active[i] && c <= line_th ? 1 : 0;
+    if (log) {
+      const BALineObservation& o = st.line_observations[i];
+      trace->Residual(call_id, st.options.literal_line ? "line1" : "line4",
+                      "ml" + std::to_string(o.line_id) + "@kf" + std::to_string(o.kf_id), line_start[i], residual_end,
+                      1.0 / (st.options.line_sigma_px * st.options.line_sigma_px), o.weight,
+                      HuberRho(weighted, line_th), c, result.line_inlier[i] != 0);
+    }
+  }
+  for (size_t i = 0; i < plane_edges.size(); ++i) {
+    double weighted = 0;
+    const double c = plane_chi2(T, i, log ? &residual_end : nullptr, &weighted);
+    result.plane_inlier[i] = plane_active[i] && c <= plane_th ? 1 : 0;
+    if (log) {
+      const BAPlaneObservation& o = st.plane_observations[i];
+      trace->Residual(call_id, "plane3", "pl" + std::to_string(o.plane_id) + "@kf" + std::to_string(o.kf_id),
+                      plane_start[i], residual_end, 1.0 / (st.options.plane_dist_sigma_m * st.options.plane_dist_sigma_m),
+                      o.weight, HuberRho(weighted, plane_th), c, result.plane_inlier[i] != 0);
+    }
+  }
   return result;
 }
 

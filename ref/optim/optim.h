@@ -21,6 +21,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
+#include <array>
 #include <map>
 #include <string>
 #include <vector>
@@ -48,6 +49,46 @@ struct PoseObservation {
   std::string obs_id;     // trace id, e.g. "mp17@f42"
 };
 
+// Line and plane observations (seed 000, issue 13); residuals and their derivation in
+// optim/structure_residuals.h.
+struct StructureResidualOptions {
+  bool literal_line = false;        // spec E15: the literal scalar e_col + e_par
+  double line_sigma_px = 1.0;       // spec 000 (c): Sigma_l = 1 px^2
+  double plane_angle_sigma_rad = 0.017453292519943295;  // (1 deg)^2
+  double plane_dist_sigma_m = 0.02;                     // (0.02 m)^2
+  double chi2_line4 = 9.488;        // 95 % chi2, 4 dof
+  double chi2_line1 = 3.841;        // 95 % chi2, 1 dof (spec's Huber delta^2 for lines)
+  double chi2_plane = 7.815;        // 95 % chi2, 3 dof
+  double LineChi2() const { return literal_line ? chi2_line1 : chi2_line4; }
+  int LineDim() const { return literal_line ? 1 : 4; }
+  void Check() const;               // InputError naming the field
+};
+
+struct LineObservation {
+  std::array<Eigen::Vector3d, 3> X_w{};  // samples s, m, e of the map line (fixed in pose-only)
+  Eigen::Vector3d l = Eigen::Vector3d::Zero();
+  Eigen::Vector3d l_companion = Eigen::Vector3d::Zero();
+  bool has_companion = false;
+  double weight = 1;
+  std::string obs_id;  // trace id, e.g. "ml3@f42"
+};
+
+struct PlaneObservationResidual {
+  Eigen::Vector3d n_w = Eigen::Vector3d::UnitZ();  // map plane (fixed in pose-only)
+  double d_w = 0;
+  Eigen::Vector3d n_obs = Eigen::Vector3d::UnitZ();
+  double d_obs = 0;
+  double weight = 1;
+  std::string obs_id;  // "pl2@f42"
+};
+
+// The structure part of a pose-only problem (empty: the point-only ORB-SLAM2 problem).
+struct PoseStructure {
+  std::vector<LineObservation> lines;
+  std::vector<PlaneObservationResidual> planes;
+  StructureResidualOptions options;
+};
+
 struct PoseOnlyOptions {
   int rounds = 4;       // ORB-SLAM2: 4 optimisations of 10 iterations each
   int iterations = 10;  // LM iterations per round
@@ -68,6 +109,8 @@ struct PoseOnlyResult {
   std::vector<double> chi2;     // per input observation at the returned pose (+inf: behind camera)
   int num_inliers = 0;
   int rounds_run = 0;  // rounds actually optimised (early stop when < min_edges remain)
+  std::vector<uint8_t> line_inlier, plane_inlier;  // per structure observation
+  int line_inliers = 0, plane_inliers = 0;
 };
 
 // ORB-SLAM2 Optimizer::PoseOptimization: `rounds` LM solves of `iterations` iterations, each from
@@ -78,6 +121,14 @@ struct PoseOnlyResult {
 // observations the pose is returned unchanged (ORB-SLAM2: nInitialCorrespondences < 3).
 PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
                             const std::vector<PoseObservation>& observations,
+                            const PoseOnlyOptions& options, trace::TraceWriter* trace,
+                            const std::string& call_id);
+// The same with line and plane residuals after the points (issue 13): they share the rounds, the
+// robust kernel schedule (Huber delta^2 = their chi2 threshold), the re-classification and the
+// min_edges count; the 3-observation minimum counts them too. structure == nullptr or empty
+// gives exactly the point-only call.
+PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
+                            const std::vector<PoseObservation>& observations, const PoseStructure* structure,
                             const PoseOnlyOptions& options, trace::TraceWriter* trace,
                             const std::string& call_id);
 
@@ -108,12 +159,46 @@ struct LocalBAOptions {
   void Check() const;
 };
 
+// Line and plane landmarks in local BA (issue 13): a line is its two endpoints (one 6-vector
+// block, Schur-eliminated with the points), a plane its unit normal (sphere manifold) and d.
+struct BALine {
+  int64_t id = 0;
+  Eigen::Vector3d P_s = Eigen::Vector3d::Zero(), P_e = Eigen::Vector3d::Zero();
+};
+struct BAPlane {
+  int64_t id = 0;
+  Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
+  double d = 0;
+};
+struct BALineObservation {
+  int64_t kf_id = 0, line_id = 0;
+  Eigen::Vector3d l = Eigen::Vector3d::Zero(), l_companion = Eigen::Vector3d::Zero();
+  bool has_companion = false;
+  double weight = 1;
+};
+struct BAPlaneObservation {
+  int64_t kf_id = 0, plane_id = 0;
+  Eigen::Vector3d n_obs = Eigen::Vector3d::UnitZ();
+  double d_obs = 0;
+  double weight = 1;
+};
+struct LocalBAStructure {
+  std::vector<BALine> lines;
+  std::vector<BAPlane> planes;
+  std::vector<BALineObservation> line_observations;
+  std::vector<BAPlaneObservation> plane_observations;
+  StructureResidualOptions options;
+};
+
 struct LocalBAResult {
   std::map<int64_t, SE3> T_cw;             // every input keyframe (fixed ones unchanged)
   std::map<int64_t, Eigen::Vector3d> X_w;  // every input point
   std::vector<uint8_t> inlier;             // per input observation; 0 = outlier to erase
   std::vector<double> chi2;                // per input observation at the final estimate
   int num_inliers = 0;
+  std::map<int64_t, std::pair<Eigen::Vector3d, Eigen::Vector3d>> line_P;  // every input line: P_s, P_e
+  std::map<int64_t, std::pair<Eigen::Vector3d, double>> plane;           // every input plane: n, d
+  std::vector<uint8_t> line_inlier, plane_inlier;                         // per structure observation
 };
 
 // ORB-SLAM2 Optimizer::LocalBundleAdjustment on given keyframes/points/observations: fixed
@@ -125,6 +210,14 @@ struct LocalBAResult {
 LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFrame>& keyframes,
                                 const std::vector<BAPoint>& points,
                                 const std::vector<BAObservation>& observations,
+                                const LocalBAOptions& options, trace::TraceWriter* trace,
+                                const std::string& call_id);
+// The same with line and plane landmarks and observations added after the points (same phases,
+// Huber delta^2 = their chi2 thresholds, outlier removal between the phases). nullptr or empty
+// gives exactly the point-only call.
+LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFrame>& keyframes,
+                                const std::vector<BAPoint>& points,
+                                const std::vector<BAObservation>& observations, const LocalBAStructure* structure,
                                 const LocalBAOptions& options, trace::TraceWriter* trace,
                                 const std::string& call_id);
 

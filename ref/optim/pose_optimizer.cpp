@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "optim/optim.h"
 #include "optim/reprojection.h"
+#include "optim/structure_residuals.h"
 #include "trace/trace_writer.h"
 
 namespace dynref::optim {
@@ -42,7 +43,22 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
                             const std::vector<PoseObservation>& observations,
                             const PoseOnlyOptions& options, trace::TraceWriter* trace,
                             const std::string& call_id) {
+  return OptimizePose(K, T_cw_init, observations, nullptr, options, trace, call_id);
+}
+
+PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
+                            const std::vector<PoseObservation>& observations, const PoseStructure* structure,
+                            const PoseOnlyOptions& options, trace::TraceWriter* trace,
+                            const std::string& call_id) {
   options.Check();
+  static const PoseStructure kNoStructure;
+  const PoseStructure& st = structure != nullptr ? *structure : kNoStructure;
+  st.options.Check();
+  const size_t n_lines = st.lines.size(), n_planes = st.planes.size();
+  for (const LineObservation& o : st.lines)
+    if (!(o.weight >= 0)) throw InputError("OptimizePose", "line observation " + o.obs_id + ": weight must be >= 0");
+  for (const PlaneObservationResidual& o : st.planes)
+    if (!(o.weight >= 0)) throw InputError("OptimizePose", "plane observation " + o.obs_id + ": weight must be >= 0");
   const size_t n = observations.size();
   std::vector<EdgeModel> edges(n);
   for (size_t i = 0; i < n; ++i) {
@@ -70,6 +86,20 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
     result.inlier[i] = std::isfinite(chi2[i]) ? 1 : 0;
   }
 
+  const double line_th = st.options.LineChi2(), plane_th = st.options.chi2_plane;
+  std::vector<std::vector<double>> line_start(log ? n_lines : 0), plane_start(log ? n_planes : 0);
+  result.line_inlier.assign(n_lines, 0);
+  result.plane_inlier.assign(n_planes, 0);
+  std::vector<double> line_chi2(n_lines, 0.0), plane_chi2(n_planes, 0.0);
+  for (size_t i = 0; i < n_lines; ++i) {
+    line_chi2[i] = LineChi2(K, T_cw_init, st.lines[i], st.options, log ? &line_start[i] : nullptr, nullptr);
+    result.line_inlier[i] = std::isfinite(line_chi2[i]) ? 1 : 0;
+  }
+  for (size_t i = 0; i < n_planes; ++i) {
+    plane_chi2[i] = PlaneChi2(T_cw_init, st.planes[i], st.options, log ? &plane_start[i] : nullptr, nullptr);
+    result.plane_inlier[i] = std::isfinite(plane_chi2[i]) ? 1 : 0;
+  }
+
   double pose[7];
   PoseToParams(T_cw_init, pose);
   PoseManifold manifold;
@@ -87,7 +117,13 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
     }
   }
 
-  if (n >= 3) {  // ORB-SLAM2: nInitialCorrespondences < 3 => pose left unchanged
+  ceres::HuberLoss huber_line(std::sqrt(line_th));
+  ceres::HuberLoss huber_plane(std::sqrt(plane_th));
+  std::vector<std::unique_ptr<ceres::CostFunction>> line_costs(n_lines), plane_costs(n_planes);
+  for (size_t i = 0; i < n_lines; ++i) line_costs[i] = std::make_unique<LinePoseCost>(K, st.lines[i], st.options);
+  for (size_t i = 0; i < n_planes; ++i) plane_costs[i] = std::make_unique<PlanePoseCost>(st.planes[i], st.options);
+
+  if (n + n_lines + n_planes >= 3) {  // ORB-SLAM2: nInitialCorrespondences < 3 => pose left unchanged
     for (int round = 0; round < options.rounds; ++round) {
       // ORB-SLAM2 drops the robust kernel after the third classification (level-2 edges).
       const bool robust = round < options.rounds - 1;
@@ -107,6 +143,16 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
         problem.AddResidualBlock(costs[i].get(), robust ? loss : nullptr, pose);
         ++active;
       }
+      for (size_t i = 0; i < n_lines; ++i) {
+        if (!result.line_inlier[i] || !(st.lines[i].weight > 0)) continue;
+        problem.AddResidualBlock(line_costs[i].get(), robust ? &huber_line : nullptr, pose);
+        ++active;
+      }
+      for (size_t i = 0; i < n_planes; ++i) {
+        if (!result.plane_inlier[i] || !(st.planes[i].weight > 0)) continue;
+        problem.AddResidualBlock(plane_costs[i].get(), robust ? &huber_plane : nullptr, pose);
+        ++active;
+      }
       if (active == 0) break;
       ceres::Solver::Summary summary;
       ceres::Solve(solver_options, &problem, &summary);
@@ -119,6 +165,16 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
         result.inlier[i] = chi2[i] <= edges[i].threshold ? 1 : 0;
         if (result.inlier[i] && edges[i].info > 0) ++weighted_inliers;
       }
+      for (size_t i = 0; i < n_lines; ++i) {
+        line_chi2[i] = LineChi2(K, T_cw, st.lines[i], st.options, nullptr, nullptr);
+        result.line_inlier[i] = line_chi2[i] <= line_th ? 1 : 0;
+        if (result.line_inlier[i] && st.lines[i].weight > 0) ++weighted_inliers;
+      }
+      for (size_t i = 0; i < n_planes; ++i) {
+        plane_chi2[i] = PlaneChi2(T_cw, st.planes[i], st.options, nullptr, nullptr);
+        result.plane_inlier[i] = plane_chi2[i] <= plane_th ? 1 : 0;
+        if (result.plane_inlier[i] && st.planes[i].weight > 0) ++weighted_inliers;
+      }
       result.T_cw = T_cw;
       if (weighted_inliers < options.min_edges) break;
     }
@@ -126,9 +182,13 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
 
   if (result.rounds_run == 0) {  // nothing optimised: classify at the initial pose
     for (size_t i = 0; i < n; ++i) result.inlier[i] = chi2[i] <= edges[i].threshold ? 1 : 0;
+    for (size_t i = 0; i < n_lines; ++i) result.line_inlier[i] = line_chi2[i] <= line_th ? 1 : 0;
+    for (size_t i = 0; i < n_planes; ++i) result.plane_inlier[i] = plane_chi2[i] <= plane_th ? 1 : 0;
   }
   result.num_inliers = 0;
   for (size_t i = 0; i < n; ++i) result.num_inliers += result.inlier[i];
+  for (uint8_t f : result.line_inlier) result.line_inliers += f;
+  for (uint8_t f : result.plane_inlier) result.plane_inliers += f;
   result.chi2 = chi2;  // computed at result.T_cw (last classification or the initial pose)
 
   if (log) {
@@ -140,6 +200,21 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
                       residual_start[i], residual_end, observations[i].inv_sigma2,
                       observations[i].weight, HuberRho(weighted, edges[i].threshold), c,
                       result.inlier[i] != 0);
+    }
+    // Lines: information = 1 / sigma_l^2; planes: 1 / sigma_d^2 (the angle rows use 1 / sigma_a^2).
+    for (size_t i = 0; i < n_lines; ++i) {
+      double weighted = 0;
+      const double c = LineChi2(K, result.T_cw, st.lines[i], st.options, &residual_end, &weighted);
+      trace->Residual(call_id, st.options.literal_line ? "line1" : "line4", st.lines[i].obs_id, line_start[i],
+                      residual_end, 1.0 / (st.options.line_sigma_px * st.options.line_sigma_px), st.lines[i].weight,
+                      HuberRho(weighted, line_th), c, result.line_inlier[i] != 0);
+    }
+    for (size_t i = 0; i < n_planes; ++i) {
+      double weighted = 0;
+      const double c = PlaneChi2(result.T_cw, st.planes[i], st.options, &residual_end, &weighted);
+      trace->Residual(call_id, "plane3", st.planes[i].obs_id, plane_start[i], residual_end,
+                      1.0 / (st.options.plane_dist_sigma_m * st.options.plane_dist_sigma_m), st.planes[i].weight,
+                      HuberRho(weighted, plane_th), c, result.plane_inlier[i] != 0);
     }
   }
   return result;
