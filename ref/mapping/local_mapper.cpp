@@ -343,6 +343,8 @@ int LocalMapper::LocalBundleAdjustment(KeyFrame& kf, LocalMapperStats* stats) {
   for (int64_t id : points)
     for (const auto& kv : map_.mp(id)->observations)
       if (!local.count(kv.first) && !map_.kf(kv.first)->bad) fixed.insert(kv.first);
+  optim::LocalBAStructure structure;
+  if (structure_ != nullptr) structure_->FillLocalBA(map_, local, &fixed, &structure);
   std::vector<optim::BAKeyFrame> kfs;
   for (int64_t id : local) kfs.push_back({id, map_.kf(id)->T_cw, id == 0});
   for (int64_t id : fixed) kfs.push_back({id, map_.kf(id)->T_cw, true});
@@ -368,12 +370,13 @@ int LocalMapper::LocalBundleAdjustment(KeyFrame& kf, LocalMapperStats* stats) {
   ++ba_calls_;
   stats->ba_keyframes = static_cast<int>(kfs.size());
   stats->ba_points = static_cast<int>(pts.size());
-  stats->ba_observations = static_cast<int>(obs.size());
+  stats->ba_observations =
+      static_cast<int>(obs.size() + structure.line_observations.size() + structure.plane_observations.size());
   const Intrinsics K = camera_.Pinhole();
   timespec c0{}, c1{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c0);  // CPU time of this (single) thread
-  const optim::LocalBAResult r = optim::LocalBundleAdjust(K, kfs, pts, obs, options_.ba, &trace_,
-                                                          "localba#" + std::to_string(ba_calls_));
+  const optim::LocalBAResult r = optim::LocalBundleAdjust(K, kfs, pts, obs, structure_ != nullptr ? &structure : nullptr,
+                                                          options_.ba, &trace_, "localba#" + std::to_string(ba_calls_));
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
   stats->ba_ms = (c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6;
   int outliers = 0;
@@ -382,6 +385,7 @@ int LocalMapper::LocalBundleAdjustment(KeyFrame& kf, LocalMapperStats* stats) {
     map_.EraseObservation(obs[i].point_id, obs[i].kf_id);
     ++outliers;
   }
+  if (structure_ != nullptr) outliers += structure_->ApplyLocalBA(map_, structure, r);
   for (int64_t id : local) {
     KeyFrame* k = map_.kf(id);
     auto it = r.T_cw.find(id);
@@ -441,6 +445,11 @@ LocalMapperStats LocalMapper::ProcessKeyFrame(int64_t kf_id) {
   s.fused = SearchInNeighbors(kf);
   if (options_.local_ba && map_.keyframes.size() > 2) s.ba_outliers = LocalBundleAdjustment(kf, &s);
   if (options_.keyframe_culling) s.culled_keyframes = KeyFrameCulling(kf);
+  if (structure_ != nullptr) {
+    std::set<int64_t> local{kf.id};
+    for (int64_t id : kf.ordered_covisibles) local.insert(id);
+    structure_->MaintainMap(map_, kf.id, local);
+  }
   trace_.FrameCount("mapping", "culled_points", s.culled_points);
   trace_.FrameCount("mapping", "new_points", s.new_points);
   trace_.FrameCount("mapping", "fused", s.fused);

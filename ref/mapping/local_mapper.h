@@ -10,6 +10,7 @@
 
 #include "map/map.h"
 #include "optim/optim.h"
+#include "structure/structure_tracker.h"
 #include "trace/trace_writer.h"
 
 namespace dynref::mapping {
@@ -35,6 +36,8 @@ class LocalMapper {
   LocalMapper(Map& map, const Camera& camera, const LocalMapperOptions& options, trace::TraceWriter& trace);
   LocalMapperStats ProcessKeyFrame(int64_t kf_id);
   int ba_calls() const { return ba_calls_; }
+  // Lines and planes (issue 13; nullptr = point-only). Not owned.
+  void SetStructure(const structure::StructureTracker* s) { structure_ = s; }
 
  private:
   void ProcessNewKeyFrame(KeyFrame& kf);
@@ -51,6 +54,7 @@ class LocalMapper {
   trace::TraceWriter& trace_;
   std::vector<int64_t> recent_points_;
   int ba_calls_ = 0;
+  const structure::StructureTracker* structure_ = nullptr;
 };
 
 }  // namespace dynref::mapping

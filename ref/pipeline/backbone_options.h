@@ -10,6 +10,7 @@
 #include "features/orb_extractor.h"
 #include "mapping/local_mapper.h"
 #include "mapping/mapping_clock.h"
+#include "structure/structure_options.h"
 #include "method/params.h"
 #include "tracking/tracker.h"
 
@@ -20,6 +21,7 @@ struct BackboneOptions {
   tracking::TrackerOptions tracker;    // includes the pose-only optimisation options
   mapping::LocalMapperOptions mapper;  // includes the local BA options
   mapping::MappingClockOptions mapping_clock;  // when local mapping counts as busy (issue 18)
+  structure::StructureOptions structure;       // lines and planes (issue 13), off by default
   // ORB-SLAM2 TUM1-3.yaml Camera.RGB: 1 applied to cv::imread's BGR images (see the key's source).
   bool camera_rgb_flag = true;
   void Check() const;  // InputError naming the bad field

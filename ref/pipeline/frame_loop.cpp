@@ -35,6 +35,11 @@ FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session
       mapping_clock_(inputs.config->backbone.mapping_clock),
       clock_options_max_queue_(inputs.config->backbone.mapping_clock.max_queue) {
   map_.AddObserver(&session_);  // landmark events reach the method's components
+  if (inputs.config->backbone.structure.enabled()) {
+    structure_ = std::make_unique<structure::StructureTracker>(camera_, inputs.config->backbone.structure, trace);
+    tracker_.SetStructure(structure_.get());
+    mapper_.SetStructure(structure_.get());
+  }
 }
 
 FrameLoop::~FrameLoop() { map_.RemoveObserver(&session_); }
@@ -69,6 +74,7 @@ bool FrameLoop::Process(size_t k) {
     extractor_.Extract(f.grey, &f.keys, &f.descriptors);
     f.pyramid = pyramid_;
     f.FinishFeatures(camera_);
+    if (structure_ != nullptr) structure_->Extract(f);
     const double t1 = NowMs();
     trace_.FrameCount("extract", "keypoints", static_cast<int64_t>(f.N()));
     session_.Run(Hook::kAfterExtraction, ctx);

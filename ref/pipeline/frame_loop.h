@@ -4,6 +4,7 @@
 // mapping clock, ref/mapping/mapping_clock.h). One FrameLoop per run; it owns the map, the tracker and
 // the local mapper, and counts what run.json reports.
 #pragma once
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "mapping/local_mapper.h"
 #include "mapping/mapping_clock.h"
 #include "method/session.h"
+#include "structure/structure_tracker.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/run_inputs.h"
 #include "trace/trace_writer.h"
@@ -56,6 +58,7 @@ class FrameLoop {
   Map map_;
   tracking::Tracker tracker_;
   mapping::LocalMapper mapper_;
+  std::unique_ptr<structure::StructureTracker> structure_;  // lines / planes (issue 13), else nullptr
   mapping::MappingClock mapping_clock_;  // when local mapping counts as busy (issue 18)
   int clock_options_max_queue_;
   RunResult result_;

@@ -3,6 +3,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+
 #include <sys/stat.h>
 
 #include <fstream>
@@ -142,7 +144,10 @@ MethodConfig ParseMethodConfig(const YAML::Node& root, const std::string& path) 
 }  // namespace
 
 std::string MethodConfigPath(const std::string& method) {
-  return std::string(DYNREF_SOURCE_DIR) + "/configs/" + method + ".yaml";
+  // Method names may use '-' (mgd-nd); config files use '_' (configs/mgd_nd.yaml).
+  std::string file = method;
+  std::replace(file.begin(), file.end(), '-', '_');
+  return std::string(DYNREF_SOURCE_DIR) + "/configs/" + file + ".yaml";
 }
 
 MethodConfig LoadMethodConfig(const std::string& path) {

@@ -81,6 +81,19 @@ int Tracker::OptimizePose(Frame& f) {
     idx.push_back(static_cast<int>(i));
   }
   std::fill(f.outlier.begin(), f.outlier.end(), 0);
+  if (structure_ != nullptr) {
+    // Lines and planes re-associated at the current estimate join the same problem (issue 13).
+    structure_->Associate(f, map_);
+    std::vector<int> line_index, plane_index;
+    const optim::PoseStructure ps = structure_->BuildPoseStructure(f, map_, &line_index, &plane_index);
+    if (obs.size() + ps.lines.size() + ps.planes.size() < 3) return 0;
+    const optim::PoseOnlyResult r = optim::OptimizePose(K, f.T_cw, obs, &ps, options_.pose, &trace_,
+                                                        "track.pose#" + std::to_string(pose_call_));
+    f.T_cw = r.T_cw;
+    for (size_t k = 0; k < idx.size(); ++k) f.outlier[idx[k]] = r.inlier[k] ? 0 : 1;
+    structure_->ApplyPoseResult(f, r, line_index, plane_index);
+    return r.num_inliers;
+  }
   if (obs.size() < 3) return 0;
   const optim::PoseOnlyResult r = optim::OptimizePose(K, f.T_cw, obs, options_.pose, &trace_,
                                                       "track.pose#" + std::to_string(pose_call_));
@@ -102,6 +115,10 @@ int Tracker::DiscardOutliers(Frame& f) {
     } else if (p != nullptr && !p->bad && p->n_obs > 0) {
       ++n_map;
     }
+  }
+  if (structure_ != nullptr) {
+    structure_->DiscardOutliers(f);
+    n_map += StructureCount(structure_->InlierCount(f));
   }
   return n_map;
 }
@@ -136,6 +153,7 @@ bool Tracker::TrackWithMotionModel(Frame& f) {
     n = SearchByProjectionLastFrame(f, last_, map_, 2 * th);
   }
   trace_.FrameCount("track.motion_model", "matches", n);
+  if (structure_ != nullptr) n += StructureCount(structure_->Associate(f, map_));
   if (n < 20) return false;
   OptimizePose(f);
   return DiscardOutliers(f) >= 10;
@@ -145,8 +163,12 @@ bool Tracker::TrackReferenceKeyFrame(Frame& f) {
   const KeyFrame* ref = map_.kf(reference_kf_);
   if (ref == nullptr) return false;
   std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
-  const int n = SearchByBruteForce(*ref, f, map_, 0.7f, true);
+  int n = SearchByBruteForce(*ref, f, map_, 0.7f, true);
   trace_.FrameCount("track.reference_kf", "matches", n);
+  if (structure_ != nullptr && n < 15) {
+    f.T_cw = last_.T_cw;  // association needs a pose; the same start as below
+    n += StructureCount(structure_->Associate(f, map_));
+  }
   if (n < 15) return false;
   // ORB-SLAM2 TrackReferenceKeyFrame starts from the last frame's pose as it stands (refreshed
   // from its reference keyframe only if the motion model ran first and failed).
@@ -280,8 +302,11 @@ bool Tracker::OptimizeFinal(Frame& f) {
     if (p->n_obs > 0) ++matches_inliers_;
   }
   trace_.FrameCount("track.final", "inliers", matches_inliers_);
-  if (f.index < last_reloc_frame_ + options_.max_frames && matches_inliers_ < 50) return false;
-  if (matches_inliers_ < 30) return false;
+  structure_inliers_ = structure_ != nullptr ? StructureCount(structure_->InlierCount(f)) : 0;
+  if (structure_ != nullptr) trace_.FrameCount("track.final", "structure_inliers", structure_inliers_);
+  const int inliers = matches_inliers_ + structure_inliers_;
+  if (f.index < last_reloc_frame_ + options_.max_frames && inliers < 50) return false;
+  if (inliers < 30) return false;
   // ORB-SLAM2 Tracking::Track updates the motion model right after TrackLocalMap, with the last
   // frame pose used for tracking this frame, i.e. before local mapping moves its reference KF.
   if (has_last_ && last_.has_pose) {
@@ -316,7 +341,8 @@ bool Tracker::NeedNewKeyFrame(const Frame& f, bool mapping_idle, int keyframes_q
   const bool c1a = f.index >= last_kf_frame_ + options_.max_frames;
   const bool c1b = f.index >= last_kf_frame_ + options_.min_frames && mapping_idle;
   const bool c1c = matches_inliers_ < ref_matches * 0.25 || need_close;
-  const bool c2 = (matches_inliers_ < ref_matches * th_ref_ratio || need_close) && matches_inliers_ > 15;
+  const bool c2 = (matches_inliers_ < ref_matches * th_ref_ratio || need_close) &&
+                  matches_inliers_ + structure_inliers_ > 15;
   if (!((c1a || c1b || c1c) && c2)) return false;
   // Busy mapping: ORB-SLAM2 interrupts local BA and, for RGB-D, inserts while the queue is short.
   return mapping_idle || keyframes_queued < max_queue;
@@ -365,6 +391,7 @@ KeyFrame* Tracker::CreateNewKeyFrame(Frame& f) {
   }
   last_kf_frame_ = f.index;
   trace_.FrameCount("track.keyframe", "new_points", n_new);
+  if (structure_ != nullptr) structure_->CreateLandmarks(f, *k, map_);
   return k;
 }
 
@@ -385,6 +412,7 @@ KeyFrame* Tracker::TryInitialise(Frame& f) {
     map_.UpdatePointNormalAndDepth(p->id);
     f.map_point_ids[i] = p->id;
   }
+  if (structure_ != nullptr) structure_->CreateLandmarks(f, *k, map_);
   reference_kf_ = k->id;
   last_kf_frame_ = f.index;
   local_kfs_ = {k->id};

@@ -3,6 +3,7 @@
 // runs after each keyframe (ref/mapping); whether it counts as idle for the keyframe decision
 // comes from the virtual mapping clock (ref/mapping/mapping_clock.h).
 #pragma once
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -11,6 +12,7 @@
 #include "core/rng.h"
 #include "map/frame.h"
 #include "map/map.h"
+#include "structure/structure_tracker.h"
 #include "optim/optim.h"
 #include "trace/trace_writer.h"
 
@@ -68,6 +70,8 @@ class Tracker {
   // Ends the frame: outlier cleanup, last frame, trajectory record.
   void FinishFrame(Frame& f, bool ok);
   int matches_inliers() const { return matches_inliers_; }
+  // Lines and planes (issue 13; nullptr = point-only ORB-SLAM2). Not owned.
+  void SetStructure(const structure::StructureTracker* s) { structure_ = s; }
   int pose_calls() const { return pose_call_; }
 
  private:
@@ -96,6 +100,11 @@ class Tracker {
   int last_kf_frame_ = -1;
   int last_reloc_frame_ = -1000000;
   int matches_inliers_ = 0;
+  // Structure: weighted inlier lines/planes of the last OptimizeFinal (added to the point counts
+  // in ORB-SLAM2's tracking thresholds, structure_options.h).
+  const structure::StructureTracker* structure_ = nullptr;
+  int structure_inliers_ = 0;
+  int StructureCount(double weighted) const { return static_cast<int>(std::floor(weighted)); }
   int pose_call_ = 0;
   int current_frame_ = -1;
   std::vector<int64_t> local_kfs_;

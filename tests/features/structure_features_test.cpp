@@ -57,7 +57,7 @@ TEST_CASE("lines: a drawn rectangle gives two parallel groups with companions an
   CHECK(cv::norm(again.descriptors, set.descriptors, cv::NORM_HAMMING) == 0);
 }
 
-TEST_CASE("lines: grouping is by orientation mod 180 with the 3 degree gate; companion ties go to the longer") {
+TEST_CASE("lines: grouping is by orientation mod 180 with the 3 degree gate, companion ties go to the longer") {
   std::vector<Segment> s(4);
   // Angles in exact binary fractions so that equal differences are equal doubles.
   s[0].angle = 0.03125, s[0].length = 50;

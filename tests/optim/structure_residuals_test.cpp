@@ -222,7 +222,7 @@ TEST_CASE("structure residuals: pose-only optimisation recovers a pose from line
   }
 }
 
-TEST_CASE("structure residuals: a wrong line is an outlier; an empty structure is the point-only call") {
+TEST_CASE("structure residuals: a wrong line is an outlier, and an empty structure is the point-only call") {
   const Intrinsics K = SyntheticIntrinsics();
   Rng rng(22, "optim.test.structure");
   const SE3 T_true = SomePose(rng, 0.1);
