@@ -28,7 +28,8 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
   CLI::Option* frames_opt = app->add_option("--frames", *frames, "frames A, A-B or A- (0-based, inclusive; A- = to the end)");
   app->add_option("--set", *sets,
                   "STAGE.KEY=VALUE: change one stage parameter of the config for this run (repeatable), "
-                  "e.g. sgdo.depth.eta=0.05; recorded in run.json with source 'dynref run --set'");
+                  "e.g. sgdo.depth.eta=0.05, or a backbone key, e.g. backbone.min_init_points=100; recorded in "
+                  "run.json with source 'dynref run --set'");
   app->add_flag("--overlays", opts->overlays, "render RUN/overlays/overlay_<frame>.png after the run");
   app->add_flag("!--no-progress", opts->progress, "no progress line on stderr");
   out.push_back({app, [opts, frames, frames_opt, sets] {
@@ -47,8 +48,11 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
                        const size_t dot = eq == std::string::npos ? std::string::npos : item.rfind('.', eq);
                        if (eq == std::string::npos || dot == std::string::npos || dot == 0 || eq == dot + 1)
                          throw InputError("--set", "'" + item + "' is not STAGE.KEY=VALUE (e.g. sgdo.depth.eta=0.05)");
-                       cfg->SetStageParam(item.substr(0, dot), item.substr(dot + 1, eq - dot - 1), item.substr(eq + 1),
-                                          "dynref run --set");
+                       if (item.substr(0, dot) == "backbone")
+                         cfg->SetBackboneParam(item.substr(dot + 1, eq - dot - 1), item.substr(eq + 1), "dynref run --set");
+                       else
+                         cfg->SetStageParam(item.substr(0, dot), item.substr(dot + 1, eq - dot - 1), item.substr(eq + 1),
+                                            "dynref run --set");
                      }
                      opts->config = cfg;
                    }

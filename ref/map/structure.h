@@ -42,9 +42,9 @@ struct FrameStructure {
   cv::Mat plane_labels;                 // CV_16S per pixel plane index, -1 none (overlays)
   bool enabled = false;
   void Reset(size_t n_lines, size_t n_planes);  // sizes the per-feature vectors, clears ids
-  // Canonical trace ids: line i of frame k "f<k>.l<i>", plane "f<k>.p<i>".
-  static std::string LineId(int frame, int i) { return "f" + std::to_string(frame) + ".l" + std::to_string(i); }
-  static std::string PlaneId(int frame, int i) { return "f" + std::to_string(frame) + ".p" + std::to_string(i); }
+  // Canonical trace ids (ref/trace/README.md): line i of frame k "l<k>.<i>", plane "pl<k>.<i>".
+  static std::string LineId(int frame, int i) { return "l" + std::to_string(frame) + "." + std::to_string(i); }
+  static std::string PlaneId(int frame, int i) { return "pl" + std::to_string(frame) + "." + std::to_string(i); }
 };
 
 class MapLine {
@@ -74,7 +74,7 @@ class MapPlane {
   int visible = 1, found = 1;
   bool bad = false;
   int64_t replaced_by = -1;
-  std::string TraceId() const { return "pl" + std::to_string(id); }
+  std::string TraceId() const { return "mpl" + std::to_string(id); }
 };
 
 }  // namespace dynref

@@ -428,7 +428,7 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
     result.plane_inlier[i] = plane_active[i] && c <= plane_th ? 1 : 0;
     if (log) {
       const BAPlaneObservation& o = st.plane_observations[i];
-      trace->Residual(call_id, "plane3", "pl" + std::to_string(o.plane_id) + "@kf" + std::to_string(o.kf_id),
+      trace->Residual(call_id, "plane3", "mpl" + std::to_string(o.plane_id) + "@kf" + std::to_string(o.kf_id),
                       plane_start[i], residual_end, 1.0 / (st.options.plane_dist_sigma_m * st.options.plane_dist_sigma_m),
                       o.weight, HuberRho(weighted, plane_th), c, result.plane_inlier[i] != 0);
     }

@@ -74,7 +74,8 @@ bool FrameLoop::Process(size_t k) {
     extractor_.Extract(f.grey, &f.keys, &f.descriptors);
     f.pyramid = pyramid_;
     f.FinishFeatures(camera_);
-    if (structure_ != nullptr) structure_->Extract(f);
+    double lines_ms = 0, planes_ms = 0;
+    if (structure_ != nullptr) structure_->Extract(f, &lines_ms, &planes_ms);
     const double t1 = NowMs();
     trace_.FrameCount("extract", "keypoints", static_cast<int64_t>(f.N()));
     session_.Run(Hook::kAfterExtraction, ctx);
@@ -122,6 +123,14 @@ bool FrameLoop::Process(size_t k) {
                            kp.octave, Fnv1a64(f.descriptors.ptr<uint8_t>(static_cast<int>(i)), 32));
       }
     }
+    if (structure_ != nullptr) {
+      structure_->TraceFrame(f);
+      int lines = 0, planes = 0;
+      for (size_t i = 0; i < f.structure.map_line_ids.size(); ++i) lines += f.structure.map_line_ids[i] >= 0;
+      for (size_t j = 0; j < f.structure.map_plane_ids.size(); ++j) planes += f.structure.map_plane_ids[j] >= 0;
+      trace_.FrameCount("structure.final", "line_residuals", ok ? lines : 0);
+      trace_.FrameCount("structure.final", "plane_residuals", ok ? planes : 0);
+    }
     if (new_kf != nullptr) {
       FrameEdit kf_edit(new_kf->frame, map_, Hook::kOnKeyFrameCreated);
       ctx.new_keyframe = new_kf;
@@ -151,6 +160,7 @@ bool FrameLoop::Process(size_t k) {
     timings_.ba.push_back(ba_ms);
     timings_.slam.push_back(t4 - t_loaded);
     timings_.total.push_back(t4 - t0);
+    if (structure_ != nullptr) timings_.lines.push_back(lines_ms), timings_.planes.push_back(planes_ms);
     ++result_.frames;
     if (ok) ++result_.tracked;
     else lost_reasons_.emplace_back(static_cast<int>(k), lost_reason);

@@ -25,6 +25,8 @@ namespace dynref {
 // Per-frame module times in ms of thread CPU time (run.json only, never in results).
 struct ModuleTimings {
   std::vector<double> load, extraction, tracking, mapping, ba, slam, total;
+  // Part of extraction when a config enables lines / planes (issue 13): segments + LBD, AHC.
+  std::vector<double> lines, planes;
 };
 
 class FrameLoop {

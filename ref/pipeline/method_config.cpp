@@ -192,6 +192,15 @@ std::string MethodConfig::ToJson() const {
   return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);  // invalid UTF-8 -> U+FFFD
 }
 
+void MethodConfig::SetBackboneParam(const std::string& key, const std::string& value, const std::string& source) {
+  auto it = backbone_params.find(key);
+  if (it == backbone_params.end()) throw InputError(path, "unknown backbone key '" + key + "'");
+  it->second.value = value;
+  it->second.list.clear();
+  it->second.source = source;
+  backbone = ResolveBackbone(backbone_params, path, &backbone_params);
+}
+
 void MethodConfig::SetStageParam(const std::string& stage, const std::string& key, const std::string& value,
                                  const std::string& source) {
   for (StageConfig& sc : stages) {

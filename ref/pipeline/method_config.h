@@ -28,6 +28,8 @@ struct MethodConfig {
   // recording `source`. InputError when the stage or key is not in the config.
   void SetStageParam(const std::string& stage, const std::string& key, const std::string& value,
                      const std::string& source);
+  // The same for a backbone key (re-validated with the whole backbone table): `stage` "backbone".
+  void SetBackboneParam(const std::string& key, const std::string& value, const std::string& source);
 };
 
 // Reads and validates a config file (InputError naming file:line on any problem).

@@ -101,6 +101,12 @@ void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop&
   j["timing"] = {{"load", Summary(t.load)}, {"extraction", Summary(t.extraction)}, {"tracking", Summary(t.tracking)},
                  {"local_mapping", Summary(t.mapping)}, {"ba", Summary(t.ba)},
                  {"slam", Summary(t.slam)}, {"total", Summary(t.total)}};
+  if (!t.lines.empty()) {  // lines / planes on (issue 13): parts of extraction
+    j["timing"]["lines"] = Summary(t.lines);
+    j["timing"]["planes"] = Summary(t.planes);
+  }
+  j["map_lines"] = loop.map().GoodLineCount();
+  j["map_planes"] = loop.map().GoodPlaneCount();
   // Per method stage, CPU ms per processed frame (the papers' runtime tables; part of the modules above).
   nlohmann::json stages = nlohmann::json::object();
   for (const auto& [name, ms] : loop.session().StageTimes())

@@ -45,6 +45,9 @@ void Marker(Canvas& c, int x, int y, Rgb col, int decision, int r = 5) {
   }
 }
 
+// One of the 7 instance colours per id (map planes).
+Rgb PaletteColour(int64_t id) { return kInstanceColours[id % 7]; }
+
 Rgb InstanceColour(const DetectedInstance& inst) {
   return kInstanceColours[(inst.class_id < 0 ? 0 : inst.class_id) % 7];
 }
@@ -92,9 +95,13 @@ void DrawShape(Canvas& c, const OverlayShape& s) {
     }
     return;
   }
-  c.FillRect(Px(s.x0), Px(s.y0), Px(s.x1), Px(s.y1), col, 60);
-  c.Rect(Px(s.x0), Px(s.y0), Px(s.x1), Px(s.y1), col, 2);
+  // A plane matched to a map plane gets that plane's colour (one colour per map plane id).
+  const bool by_id = s.kind == trace::EntityKind::kPlane && s.landmark >= 0;
+  const Rgb fill = by_id ? PaletteColour(s.landmark) : col;
+  c.FillRect(Px(s.x0), Px(s.y0), Px(s.x1), Px(s.y1), fill, 60);
+  c.Rect(Px(s.x0), Px(s.y0), Px(s.x1), Px(s.y1), fill, 2);
   std::string label = (s.kind == trace::EntityKind::kPlane ? "plane " : "region ") + s.entity;
+  if (by_id) label += " mpl" + std::to_string(s.landmark);
   if (s.has_prob) label += " p=" + FormatFixed(s.prob, 2);
   if (s.decision == 0) label += " rejected";
   c.Label(Px(s.x0) + 4, Px(s.y0) + 4, label, kWhite);

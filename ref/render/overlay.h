@@ -40,6 +40,7 @@ struct OverlayShape {
   bool has_prob = false;
   double prob = 0;
   int decision = -1;
+  int64_t landmark = -1;  // input map_plane / map_line of a backbone structure record (-1 none)
 };
 struct OverlayInstanceState {  // trace records on i<frame>.<inst>
   bool has_prob = false;

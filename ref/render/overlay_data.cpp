@@ -161,6 +161,9 @@ std::vector<OverlayFrame> CollectOverlayFrames(trace::TraceReader& reader, int64
             const double x1 = InputOr(r, line ? "x1" : "x_max", s.x1, &found);
             const double y1 = InputOr(r, line ? "y1" : "y_max", s.y1, &found);
             if (found) s.x0 = x0, s.y0 = y0, s.x1 = x1, s.y1 = y1;
+            bool has_id = true;
+            const double id = InputOr(r, line ? "map_line" : "map_plane", -1, &has_id);
+            if (has_id) s.landmark = static_cast<int64_t>(id);
           }
           break;
         }

@@ -19,6 +19,8 @@ struct StructureOptions {
   double line_match_px = 15;         // midpoint distances between projected and observed lines
   double line_collinear_m = 0.02;    // 3-D samples collinear within this (+1 % of depth)
   double line_min_3d_length_m = 0.05;
+  // e_par (the companion line's collinearity term) in the line residual (spec 000 step 14).
+  bool line_parallel_term = true;
   // Association of frame planes to map planes, and merging of map planes.
   double plane_match_angle_deg = 10;
   double plane_match_dist_m = 0.1;

@@ -5,6 +5,8 @@
 #include <opencv2/calib3d.hpp>
 #include <tuple>
 
+#include "core/cpu_clock.h"
+
 namespace dynref::structure {
 namespace {
 
@@ -32,11 +34,12 @@ StructureTracker::StructureTracker(const Camera& camera, const StructureOptions&
   o_.Check();
 }
 
-void StructureTracker::Extract(Frame& f) const {
+void StructureTracker::Extract(Frame& f, double* lines_ms, double* planes_ms) const {
   FrameStructure& s = f.structure;
   s = FrameStructure{};
   s.enabled = true;
   const Intrinsics K = camera_.Pinhole();
+  const double t0 = ThreadCpuMs();
   if (o_.lines) {
     const features::SegmentSet set = features::DetectSegments(f.grey, o_.line);
     std::vector<cv::Point2f> raw, un;
@@ -79,11 +82,14 @@ void StructureTracker::Extract(Frame& f) const {
     }
     s.line_descriptors = set.descriptors;
   }
+  const double t1 = ThreadCpuMs();
+  if (lines_ms != nullptr) *lines_ms += t1 - t0;
   if (o_.planes && !f.depth_m.empty()) {
     features::PlaneSegmentation seg = features::SegmentPlanes(f.depth_m, K, o_.plane);
     s.planes = std::move(seg.planes);
     s.plane_labels = seg.labels;
   }
+  if (planes_ms != nullptr) *planes_ms += ThreadCpuMs() - t1;
   s.Reset(s.lines.size(), s.planes.size());
   trace_.FrameCount("structure.extract", "lines", static_cast<int64_t>(s.lines.size()));
   int with3d = 0;
@@ -188,7 +194,7 @@ optim::PoseStructure StructureTracker::BuildPoseStructure(const Frame& f, const 
     optim::LineObservation o;
     o.X_w = L->Samples();
     o.l = s.lines[i].l;
-    if (s.lines[i].companion >= 0) {
+    if (o_.line_parallel_term && s.lines[i].companion >= 0) {
       o.l_companion = s.lines[static_cast<size_t>(s.lines[i].companion)].l;
       o.has_companion = true;
     }
@@ -297,7 +303,7 @@ void StructureTracker::FillLocalBA(const Map& map, const std::set<int64_t>& loca
       const FrameLine& F = s.lines[static_cast<size_t>(idx)];
       optim::BALineObservation o;
       o.kf_id = k_id, o.line_id = id, o.l = F.l;
-      if (F.companion >= 0) o.l_companion = s.lines[static_cast<size_t>(F.companion)].l, o.has_companion = true;
+      if (o_.line_parallel_term && F.companion >= 0) o.l_companion = s.lines[static_cast<size_t>(F.companion)].l, o.has_companion = true;
       st->line_observations.push_back(o);
     }
   }
@@ -352,6 +358,39 @@ int StructureTracker::ApplyLocalBA(Map& map, const optim::LocalBAStructure& st, 
     if (P != nullptr) P->n = p.first.normalized(), P->d = p.second;
   }
   return outliers;
+}
+
+void StructureTracker::TraceFrame(const Frame& f) const {
+  if (!trace_.full_enabled()) return;
+  const FrameStructure& s = f.structure;
+  for (size_t i = 0; i < s.lines.size(); ++i) {
+    const FrameLine& L = s.lines[i];
+    const int64_t id = s.line_outlier.empty() || s.line_outlier[i] ? -1 : s.map_line_ids[i];
+    trace_.ProbabilityUpdate("structure", trace::EntityKind::kLineSample, FrameStructure::LineId(f.index, static_cast<int>(i)),
+                             {{"x0", L.s.x()}, {"y0", L.s.y()}, {"x1", L.e.x()}, {"y1", L.e.y()},
+                              {"map_line", static_cast<double>(id)}, {"has_3d", L.has_3d ? 1.0 : 0.0},
+                              {"group", static_cast<double>(L.group)}},
+                             0.0, 0.0);
+  }
+  // Plane bounding boxes from the label image, one pass.
+  std::vector<std::array<int, 4>> box(s.planes.size(), {1 << 30, 1 << 30, -1, -1});
+  for (int r = 0; r < s.plane_labels.rows; ++r)
+    for (int c = 0; c < s.plane_labels.cols; ++c) {
+      const int l = s.plane_labels.at<int16_t>(r, c);
+      if (l < 0) continue;
+      auto& b = box[static_cast<size_t>(l)];
+      b[0] = std::min(b[0], c), b[1] = std::min(b[1], r), b[2] = std::max(b[2], c), b[3] = std::max(b[3], r);
+    }
+  for (size_t j = 0; j < s.planes.size(); ++j) {
+    const features::PlaneObservation& P = s.planes[j];
+    const int64_t id = s.plane_outlier.empty() || s.plane_outlier[j] ? -1 : s.map_plane_ids[j];
+    trace_.ProbabilityUpdate("structure", trace::EntityKind::kPlane, FrameStructure::PlaneId(f.index, static_cast<int>(j)),
+                             {{"x_min", static_cast<double>(box[j][0])}, {"y_min", static_cast<double>(box[j][1])},
+                              {"x_max", static_cast<double>(box[j][2])}, {"y_max", static_cast<double>(box[j][3])},
+                              {"n_x", P.n.x()}, {"n_y", P.n.y()}, {"n_z", P.n.z()}, {"d", P.d},
+                              {"points", static_cast<double>(P.points)}, {"map_plane", static_cast<double>(id)}},
+                             0.0, 0.0);
+  }
 }
 
 void StructureTracker::MaintainMap(Map& map, int64_t kf_id, const std::set<int64_t>& local) const {

@@ -33,7 +33,8 @@ class StructureTracker {
   const StructureOptions& options() const { return o_; }
 
   // Segments (on f.grey, after the before_extraction stages) and planes (on f.depth_m).
-  void Extract(Frame& f) const;
+  // CPU ms of the segment and plane parts are added to *lines_ms / *planes_ms when non-null.
+  void Extract(Frame& f, double* lines_ms = nullptr, double* planes_ms = nullptr) const;
   // Associates f's lines and planes with good map landmarks at f.T_cw (replacing earlier
   // associations); returns the weighted association count.
   double Associate(Frame& f, const Map& map) const;
@@ -58,6 +59,9 @@ class StructureTracker {
   // Writes BA results back (outlier observations erased, landmark parameters updated); returns
   // the number of outlier observations.
   int ApplyLocalBA(Map& map, const optim::LocalBAStructure& st, const optim::LocalBAResult& r) const;
+  // Full trace: one geometry record per frame line and plane (PROB, stage "structure", p = 0:
+  // the backbone treats every line and plane as static; ref/trace/README.md), after tracking.
+  void TraceFrame(const Frame& f) const;
   // Line culling and plane merging after keyframe kf_id's local mapping.
   void MaintainMap(Map& map, int64_t kf_id, const std::set<int64_t>& local) const;
 

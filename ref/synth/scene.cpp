@@ -47,6 +47,50 @@ int Scene::AddLabel(int id, int coco_id, const std::string& name_if_not_coco) {
   return id;
 }
 
+void BuildPlainRoom(uint64_t seed, Scene* s) {
+  Rng rng(seed, "synth.scene");
+  Mesh& m = s->static_mesh;
+  const Rgb white = C(0.85f, 0.85f, 0.82f), dark = C(0.06f, 0.06f, 0.07f);
+  const int floor = s->AddMaterial(Mat(Pattern::kFlat, C(0.45f, 0.42f, 0.38f), white, dark, 1, rng));
+  const int ceiling = s->AddMaterial(Mat(Pattern::kFlat, C(0.82f, 0.82f, 0.80f), white, dark, 1, rng));
+  const int light = s->AddMaterial(Mat(Pattern::kLight, C(1, 1, 0.97f), C(0.6f, 0.6f, 0.6f), dark, 0.3f, rng, 3.0f));
+  const int wall = s->AddMaterial(Mat(Pattern::kFlat, C(0.78f, 0.76f, 0.70f), white, dark, 1, rng));
+  const int wall2 = s->AddMaterial(Mat(Pattern::kFlat, C(0.60f, 0.68f, 0.74f), white, dark, 1, rng));
+  const int top = s->AddMaterial(Mat(Pattern::kFlat, C(0.30f, 0.22f, 0.16f), white, dark, 1, rng));
+  const int metal = s->AddMaterial(Mat(Pattern::kFlat, C(0.20f, 0.20f, 0.22f), white, dark, 1, rng));
+  const int cabinet = s->AddMaterial(Mat(Pattern::kFlat, C(0.92f, 0.92f, 0.90f), white, dark, 1, rng));
+  const int crate = s->AddMaterial(Mat(Pattern::kFlat, C(0.70f, 0.30f, 0.20f), white, dark, 1, rng));
+  const int crate2 = s->AddMaterial(Mat(Pattern::kFlat, C(0.25f, 0.45f, 0.30f), white, dark, 1, rng));
+  const float X0 = -2.8f, X1 = 2.8f, Y0 = -2.6f, Y1 = 2.45f, H = 2.7f;
+  QuadZ(&m, 0, X0, X1, Y0, Y1, floor, 0);
+  QuadZ(&m, H, X0, X1, Y0, Y1, ceiling, 0);
+  QuadY(&m, Y1, X0, X1, 0, H, wall, 0);
+  QuadY(&m, Y0, X0, X1, 0, H, wall, 0);
+  QuadX(&m, X0, Y0, Y1, 0, H, wall2, 0);
+  QuadX(&m, X1, Y0, Y1, 0, H, wall2, 0);
+  m.AddBox(V(X0, Y1 - 0.02f, 0), V(X1, Y1, 0.1f), metal, 0);  // skirting: a long floor edge
+  for (float x : {-1.5f, 0.f, 1.5f}) {
+    QuadZ(&m, H - 0.01f, x - 0.3f, x + 0.3f, 0.2f - 0.6f, 0.2f + 0.6f, light, 0);
+    s->lights.push_back({V(x, 0.2f, H - 0.25f), 1.0f});
+  }
+  // Table: top and four legs.
+  m.AddBox(V(-0.8f, 0.9f, 0.72f), V(0.8f, 1.7f, 0.76f), top, kFirstStaticId);
+  for (float x : {-0.76f, 0.72f})
+    for (float y : {0.94f, 1.62f}) m.AddBox(V(x, y, 0), V(x + 0.04f, y + 0.04f, 0.72f), metal, kFirstStaticId);
+  // Cabinet against the back wall (left), bookcase frame (right), two crates on the floor.
+  m.AddBox(V(-2.4f, 1.95f, 0), V(-1.5f, Y1 - 0.02f, 1.1f), cabinet, kFirstStaticId + 1);
+  m.AddBox(V(1.5f, 2.05f, 0), V(1.55f, Y1 - 0.02f, 1.9f), metal, kFirstStaticId + 2);
+  m.AddBox(V(2.35f, 2.05f, 0), V(2.4f, Y1 - 0.02f, 1.9f), metal, kFirstStaticId + 2);
+  for (float z : {0.0f, 0.6f, 1.2f, 1.85f}) m.AddBox(V(1.5f, 2.05f, z), V(2.4f, Y1 - 0.02f, z + 0.05f), metal, kFirstStaticId + 2);
+  m.AddBox(V(-1.2f, 0.2f, 0), V(-0.7f, 0.6f, 0.4f), crate, kFirstStaticId + 3);
+  m.AddBox(V(1.0f, 0.4f, 0), V(1.45f, 0.8f, 0.5f), crate2, kFirstStaticId + 4);
+  s->AddLabel(kFirstStaticId, 60);  // COCO dining table
+  s->AddLabel(kFirstStaticId + 1, -1, "cabinet");
+  s->AddLabel(kFirstStaticId + 2, -1, "shelf");
+  s->AddLabel(kFirstStaticId + 3, -1, "crate");
+  s->AddLabel(kFirstStaticId + 4, -1, "crate");
+}
+
 void BuildOffice(uint64_t seed, Scene* s) {
   Rng rng(seed, "synth.scene");
   Mesh& m = s->static_mesh;

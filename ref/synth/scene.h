@@ -39,6 +39,11 @@ struct Scene {
 // Builds the room and furniture (no chairs: presets place them). Textures seeded from
 // Rng(seed, "synth.scene").
 void BuildOffice(uint64_t seed, Scene* scene);
+// A low-texture room (issue 13's structure control): the same shell size with plain, evenly lit
+// walls in two colours, a plain floor and ceiling, and furniture of plain boxes (a table, a
+// cabinet, a bookcase frame, two crates) whose edges and faces give lines and planes while ORB
+// corners are scarce. Textures seeded from Rng(seed, "synth.scene").
+void BuildPlainRoom(uint64_t seed, Scene* scene);
 // Office chair in its own frame: origin on the floor under the seat centre, seat faces +x.
 Mesh BuildChairMesh(Scene* scene, uint64_t seed, int variant);
 // Cardboard box (0.44 x 0.34 x 0.30 m) centred at the origin.

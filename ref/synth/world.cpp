@@ -84,7 +84,7 @@ ActorSpec At(ActorKind kind, double x, double y, double yaw, double phase, bool 
 std::vector<std::string> PresetNames() {
   return {"walking_xyz", "walking_static", "walking_halfsphere", "walking_rpy", "sitting_static", "sitting_xyz",
           "sitting_halfsphere", "sitting_rpy", "crowd", "person_tracking", "synchronous", "moving_box",
-          "static_xyz", "static_rpy", "static_halfsphere"};
+          "static_xyz", "static_rpy", "static_halfsphere", "static_lowtexture"};
 }
 
 PresetSpec GetPreset(const std::string& name) {
@@ -115,6 +115,12 @@ PresetSpec GetPreset(const std::string& name) {
     p.actors = {At(ActorKind::kSitter, -0.55, 0.5, -kPi / 2 + 0.7, 0.0),
                 At(ActorKind::kSitter, 0.6, 0.5, -kPi / 2 - 0.7, 2.5, true)};
     p.default_frames = name == "sitting_static" ? 707 : name == "sitting_xyz" ? 1261 : name == "sitting_rpy" ? 795 : 1110;
+  } else if (name == "static_lowtexture") {
+    // Issue 13's structure control: a plain room (few ORB corners, large planes, furniture
+    // edges), the camera on the xyz path, nobody moving.
+    p.camera = CameraPath::kXyz;
+    p.plain_room = true;
+    p.default_frames = 600;
   } else if (has("static_")) {
     p.camera = path_of(name.substr(7));
     p.static_chairs = {left, right};
@@ -160,7 +166,8 @@ PresetSpec GetPreset(const std::string& name) {
 }
 
 World::World(const PresetSpec& preset, uint64_t seed) : preset_(preset) {
-  BuildOffice(seed, &scene_);
+  if (preset_.plain_room) BuildPlainRoom(seed, &scene_);
+  else BuildOffice(seed, &scene_);
   chair_mesh_ = BuildChairMesh(&scene_, seed, 0);
   box_mesh_ = BuildBoxMesh(&scene_, seed);
   int next_movable = kFirstMovableId;

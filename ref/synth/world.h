@@ -36,6 +36,7 @@ struct PresetSpec {
   CameraPath camera = CameraPath::kStatic;
   std::vector<ActorSpec> actors;
   std::vector<ChairSpec> static_chairs;
+  bool plain_room = false;  // BuildPlainRoom instead of BuildOffice (static_lowtexture)
 };
 
 std::vector<std::string> PresetNames();

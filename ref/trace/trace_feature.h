@@ -15,10 +15,12 @@ struct FeatureHistory {
 
 // Matches: records whose entity is `id` or starts with "<id>@" (residual observation ids); for
 // "mp<N>", observations matched to map point N and every record of those feature observations
-// ("f<frame>.<index>") in the same frame; for "f<frame>.<index>", the observation itself.
+// ("f<frame>.<index>") in the same frame; for a map line "ml<N>" / map plane "mpl<N>", every record
+// of the frame lines "l<frame>.<i>" / planes "pl<frame>.<i>" whose structure record names it
+// (input map_line / map_plane); for "f<frame>.<index>", the observation itself.
 FeatureHistory CollectFeatureHistory(TraceReader& reader, const std::string& id);
 // True for a canonical entity id (README "Canonical entity ids"): f|i|l|pl|r<frame>.<index>,
-// mp|kf<id>, optionally followed by a residual suffix "@f<frame>" or "@kf<id>".
+// mp|kf|ml|mpl<id>, optionally followed by a residual suffix "@f<frame>" or "@kf<id>".
 bool IsCanonicalEntityId(const std::string& id);
 // CSV table: frame,type,stage,kind,entity,occurrence,fields ("name=value" separated by spaces).
 void WriteFeatureTable(const FeatureHistory& history, std::ostream& out);
