@@ -1,5 +1,7 @@
 // Map bookkeeping of line and plane landmarks (issue 13); see map/structure.h.
 #include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 #include "map/map.h"
 
@@ -28,6 +30,8 @@ MapLine* Map::NewMapLine(const Eigen::Vector3d& P_s, const Eigen::Vector3d& P_e,
 }
 
 MapPlane* Map::NewMapPlane(const Eigen::Vector3d& n_w, double d_w, int64_t kf_id, int frame_index) {
+  if (!(n_w.norm() > 1e-9) || !std::isfinite(d_w))
+    throw std::invalid_argument("NewMapPlane: zero or non-finite normal / distance");
   auto p = std::make_unique<MapPlane>();
   p->id = next_plane_id_++;
   p->n = n_w.normalized();

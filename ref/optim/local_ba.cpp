@@ -79,10 +79,21 @@ class BAProblem {
         huber_stereo_(std::sqrt(options.chi2_stereo)),
         huber_line_(std::sqrt(st.options.LineChi2())),
         huber_plane_(std::sqrt(st.options.chi2_plane)) {
-    pose_params_.resize(keyframes.size() * 7);
+    // Every parameter block lives in ONE array, in this order: Ceres keeps the blocks of an
+    // elimination group in a pointer-ordered set, so blocks of separately allocated arrays would
+    // be ordered by heap address (different from run to run: the Schur complement sums in
+    // another order, results differ in the last bits). One array: pointer order = index order.
+    const size_t n_pose = keyframes.size() * 7, n_point = points.size() * 3, n_line = st.lines.size() * 6,
+                 n_plane = st.planes.size();
+    storage_.assign(n_pose + n_point + n_line + 4 * n_plane, 0.0);
+    double* base = storage_.data();
+    pose_params_ = {base, n_pose};
+    point_params_ = {base + n_pose, n_point};
+    line_params_ = {base + n_pose + n_point, n_line};
+    plane_n_ = {base + n_pose + n_point + n_line, 3 * n_plane};
+    plane_d_ = {base + n_pose + n_point + n_line + 3 * n_plane, n_plane};
     for (size_t k = 0; k < keyframes.size(); ++k)
       PoseToParams(keyframes[k].T_cw, &pose_params_[k * 7]);
-    point_params_.resize(points.size() * 3);
     for (size_t p = 0; p < points.size(); ++p) {
       for (int c = 0; c < 3; ++c) point_params_[p * 3 + c] = points[p].X_w[c];
     }
@@ -100,11 +111,8 @@ class BAProblem {
         costs_[i] = std::make_unique<BACost<2>>(K, e.obs, s);
       }
     }
-    line_params_.resize(st.lines.size() * 6);
     for (size_t k = 0; k < st.lines.size(); ++k)
       for (int c = 0; c < 3; ++c) line_params_[k * 6 + c] = st.lines[k].P_s[c], line_params_[k * 6 + 3 + c] = st.lines[k].P_e[c];
-    plane_n_.resize(st.planes.size() * 3);
-    plane_d_.resize(st.planes.size());
     for (size_t k = 0; k < st.planes.size(); ++k) {
       for (int c = 0; c < 3; ++c) plane_n_[k * 3 + c] = st.planes[k].n[c];
       plane_d_[k] = st.planes[k].d;
@@ -263,10 +271,19 @@ class BAProblem {
   const LocalBAStructure& st_;
   const std::vector<StructureEdge>& line_edges_;
   const std::vector<StructureEdge>& plane_edges_;
-  std::vector<double> pose_params_;
-  std::vector<double> line_params_, plane_n_, plane_d_;
+  // Views into storage_ (see the constructor).
+  struct Block {
+    double* p = nullptr;
+    size_t n = 0;
+    double& operator[](size_t i) { return p[i]; }
+    const double& operator[](size_t i) const { return p[i]; }
+    size_t size() const { return n; }
+  };
+  std::vector<double> storage_;
+  Block pose_params_;
+  Block line_params_, plane_n_, plane_d_;
   ceres::SphereManifold<3> sphere_;
-  std::vector<double> point_params_;
+  Block point_params_;
   PoseManifold manifold_;
   ceres::HuberLoss huber_mono_;
   ceres::HuberLoss huber_stereo_;

@@ -55,10 +55,18 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
   const PoseStructure& st = structure != nullptr ? *structure : kNoStructure;
   st.options.Check();
   const size_t n_lines = st.lines.size(), n_planes = st.planes.size();
-  for (const LineObservation& o : st.lines)
+  // A zero-length segment has no line (l = 0) and a degenerate plane no normal: refused by name.
+  const auto unit = [](const Eigen::Vector2d& v) { return std::fabs(v.norm() - 1.0) < 1e-6; };
+  for (const LineObservation& o : st.lines) {
     if (!(o.weight >= 0)) throw InputError("OptimizePose", "line observation " + o.obs_id + ": weight must be >= 0");
-  for (const PlaneObservationResidual& o : st.planes)
+    if (!unit(o.l.head<2>()) || (o.has_companion && !unit(o.l_companion.head<2>())))
+      throw InputError("OptimizePose", "line observation " + o.obs_id + ": the line is not normalised (zero-length segment?)");
+  }
+  for (const PlaneObservationResidual& o : st.planes) {
     if (!(o.weight >= 0)) throw InputError("OptimizePose", "plane observation " + o.obs_id + ": weight must be >= 0");
+    if (std::fabs(o.n_w.norm() - 1.0) > 1e-6 || std::fabs(o.n_obs.norm() - 1.0) > 1e-6)
+      throw InputError("OptimizePose", "plane observation " + o.obs_id + ": normal is not a unit vector");
+  }
   const size_t n = observations.size();
   std::vector<EdgeModel> edges(n);
   for (size_t i = 0; i < n; ++i) {

@@ -59,6 +59,7 @@ void StructureTracker::Extract(Frame& f, double* lines_ms, double* planes_ms) co
       L.s = {un[3 * i].x, un[3 * i].y};
       L.e = {un[3 * i + 2].x, un[3 * i + 2].y};
       L.l = features::LineThrough(L.s, L.e);
+      // Endpoints merged by undistortion: no line (l = 0); kept for index alignment, never associated.
       L.angle = g.angle;
       L.length = (L.e - L.s).norm();
       L.group = g.group;
@@ -130,7 +131,7 @@ double StructureTracker::Associate(Frame& f, const Map& map) const {
       const double t0 = 0, t1 = (pb - pa).norm();
       for (size_t i = 0; i < s.lines.size(); ++i) {
         const FrameLine& F = s.lines[i];
-        if (features::LineAngleDiff(ang, F.angle) >= gate) continue;
+        if (F.l.head<2>().squaredNorm() == 0 || features::LineAngleDiff(ang, F.angle) >= gate) continue;
         const Eigen::Vector2d fm = 0.5 * (F.s + F.e);
         const double d1 = std::fabs(lp.dot(Eigen::Vector3d(fm.x(), fm.y(), 1)));
         const double d2 = std::fabs(F.l.dot(Eigen::Vector3d(mid.x(), mid.y(), 1)));
@@ -194,7 +195,8 @@ optim::PoseStructure StructureTracker::BuildPoseStructure(const Frame& f, const 
     optim::LineObservation o;
     o.X_w = L->Samples();
     o.l = s.lines[i].l;
-    if (o_.line_parallel_term && s.lines[i].companion >= 0) {
+    if (o_.line_parallel_term && s.lines[i].companion >= 0 &&
+        s.lines[static_cast<size_t>(s.lines[i].companion)].l.head<2>().squaredNorm() > 0) {
       o.l_companion = s.lines[static_cast<size_t>(s.lines[i].companion)].l;
       o.has_companion = true;
     }
@@ -303,7 +305,8 @@ void StructureTracker::FillLocalBA(const Map& map, const std::set<int64_t>& loca
       const FrameLine& F = s.lines[static_cast<size_t>(idx)];
       optim::BALineObservation o;
       o.kf_id = k_id, o.line_id = id, o.l = F.l;
-      if (o_.line_parallel_term && F.companion >= 0) o.l_companion = s.lines[static_cast<size_t>(F.companion)].l, o.has_companion = true;
+      if (o_.line_parallel_term && F.companion >= 0 && s.lines[static_cast<size_t>(F.companion)].l.head<2>().squaredNorm() > 0)
+        o.l_companion = s.lines[static_cast<size_t>(F.companion)].l, o.has_companion = true;
       st->line_observations.push_back(o);
     }
   }
