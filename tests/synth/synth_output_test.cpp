@@ -127,7 +127,7 @@ TEST_CASE("synth: TUM layout read by OpenSequence with GT for every frame and ca
 }
 
 TEST_CASE("synth: every preset generates and has people only where expected") {
-  CHECK(dynref::synth::PresetNames().size() == 15);  // the presets table of datasets/README.md
+  CHECK(dynref::synth::PresetNames().size() == 16);  // the presets table of datasets/README.md
   for (const std::string& preset : dynref::synth::PresetNames()) {
     INFO(preset);
     const std::string dir = dynref::test::ScratchDir("synth_preset_" + preset);
