@@ -36,6 +36,10 @@ struct FrameStructure {
   cv::Mat line_descriptors;             // N x 32 CV_8U (LBD)
   std::vector<int64_t> map_line_ids;    // per line, -1 none
   std::vector<uint8_t> line_outlier;    // set by pose optimisation
+  // Per-line weight multiplying the information of its residuals, as Frame::SetWeight for
+  // points (a dynamic method's hook, e.g. w = 1 - P of seed 000); copied into the keyframe, so
+  // local BA uses it too. Planes are always static (spec 000 step 12): no plane weight.
+  std::vector<double> line_weight;
   std::vector<features::PlaneObservation> planes;
   std::vector<int64_t> map_plane_ids;   // per plane, -1 none
   std::vector<uint8_t> plane_outlier;

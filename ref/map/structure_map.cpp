@@ -10,6 +10,7 @@ namespace dynref {
 void FrameStructure::Reset(size_t n_lines, size_t n_planes) {
   map_line_ids.assign(n_lines, -1);
   line_outlier.assign(n_lines, 0);
+  line_weight.assign(n_lines, 1.0);
   map_plane_ids.assign(n_planes, -1);
   plane_outlier.assign(n_planes, 0);
 }

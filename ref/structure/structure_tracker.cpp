@@ -195,6 +195,7 @@ optim::PoseStructure StructureTracker::BuildPoseStructure(const Frame& f, const 
     optim::LineObservation o;
     o.X_w = L->Samples();
     o.l = s.lines[i].l;
+    o.weight = s.line_weight[i];
     if (o_.line_parallel_term && s.lines[i].companion >= 0 &&
         s.lines[static_cast<size_t>(s.lines[i].companion)].l.head<2>().squaredNorm() > 0) {
       o.l_companion = s.lines[static_cast<size_t>(s.lines[i].companion)].l;
@@ -304,7 +305,7 @@ void StructureTracker::FillLocalBA(const Map& map, const std::set<int64_t>& loca
       const FrameStructure& s = map.kf(k_id)->frame.structure;
       const FrameLine& F = s.lines[static_cast<size_t>(idx)];
       optim::BALineObservation o;
-      o.kf_id = k_id, o.line_id = id, o.l = F.l;
+      o.kf_id = k_id, o.line_id = id, o.l = F.l, o.weight = s.line_weight[static_cast<size_t>(idx)];
       if (o_.line_parallel_term && F.companion >= 0 && s.lines[static_cast<size_t>(F.companion)].l.head<2>().squaredNorm() > 0)
         o.l_companion = s.lines[static_cast<size_t>(F.companion)].l, o.has_companion = true;
       st->line_observations.push_back(o);

@@ -147,6 +147,12 @@ TEST_CASE("structure: frame lines get 3-D samples, landmarks are created at a ke
   CHECK(weighted == Approx(lines1 * 1.0 + planes1 * 3.0));
   // Pose-only optimisation from lines and planes alone stays at the true pose.
   std::vector<int> li, pi;
+  {  // the per-line weight hook reaches the residual
+    Frame w = f1;
+    REQUIRE(st.BuildPoseStructure(w, map, &li, &pi).lines.size() > 0);
+    w.structure.line_weight[static_cast<size_t>(li[0])] = 0.25;
+    CHECK(st.BuildPoseStructure(w, map, &li, &pi).lines[0].weight == 0.25);
+  }
   const optim::PoseStructure ps = st.BuildPoseStructure(f1, map, &li, &pi);
   const optim::PoseOnlyResult r = optim::OptimizePose(seq.camera.Pinhole(), f1.T_cw, {}, &ps, optim::PoseOnlyOptions{}, nullptr, "t");
   CHECK((r.T_cw.translation() - f1.T_cw.translation()).norm() < 0.01);
