@@ -8,12 +8,6 @@ namespace {
 
 using Vector6d = Eigen::Matrix<double, 6, 1>;
 
-Eigen::Matrix3d Skew(const Eigen::Vector3d& w) {
-  Eigen::Matrix3d W;
-  W << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
-  return W;
-}
-
 // Exp_SO3 as a unit quaternion (first-order series below 1e-10 rad).
 Eigen::Quaterniond ExpSO3(const Eigen::Vector3d& omega) {
   const double theta = omega.norm();

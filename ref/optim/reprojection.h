@@ -36,6 +36,13 @@ class PoseManifold final : public ceres::Manifold {
   bool MinusJacobian(const double* x, double* jacobian) const override;
 };
 
+// [w]x, the cross-product matrix (Skew(w) v = w x v).
+inline Eigen::Matrix3d Skew(const Eigen::Vector3d& w) {
+  Eigen::Matrix3d W;
+  W << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
+  return W;
+}
+
 void PoseToParams(const SE3& T_cw, double* params7);
 SE3 ParamsToPose(const double* params7);
 // SE3 exponential / logarithm in the (omega, upsilon) ordering above.

@@ -10,12 +10,6 @@
 namespace dynref::optim {
 namespace {
 
-Eigen::Matrix3d Skew(const Eigen::Vector3d& w) {
-  Eigen::Matrix3d W;
-  W << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
-  return W;
-}
-
 // Signed distance of the projection of X_c to line l and its gradient w.r.t. X_c.
 bool PointLineDistance(const Intrinsics& K, const Eigen::Vector3d& X, const Eigen::Vector3d& l, double* d,
                        Eigen::RowVector3d* g) {

@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include "core/cpu_clock.h"
+#include "features/orb_extractor.h"
 
 namespace dynref::structure {
 namespace {
@@ -24,8 +25,6 @@ float NearestDepth(const cv::Mat& depth_m, double u, double v) {
     }
   return best;
 }
-
-int Hamming(const cv::Mat& a, const cv::Mat& b) { return static_cast<int>(cv::norm(a, b, cv::NORM_HAMMING)); }
 
 }  // namespace
 
@@ -139,7 +138,8 @@ double StructureTracker::Associate(Frame& f, const Map& map) const {
         // The observed segment must overlap the projected one along the line.
         const double u0 = (F.s - pa).dot(dir), u1 = (F.e - pa).dot(dir);
         if (std::max(u0, u1) < t0 || std::min(u0, u1) > t1) continue;
-        if (Hamming(L->descriptor, s.line_descriptors.row(static_cast<int>(i))) > o_.line_match_bits) continue;
+        if (features::DescriptorDistance(L->descriptor, s.line_descriptors.row(static_cast<int>(i))) > o_.line_match_bits)
+          continue;
         cand.emplace_back(0.5 * (d1 + d2), id, static_cast<int>(i));
       }
     }

@@ -31,6 +31,17 @@ void QuadZ(Mesh* m, float z0, float x0, float x1, float y0, float y1, int mat, i
   m->AddQuad(V(x0, y0, z0), V(x1, y0, z0), V(x1, y1, z0), V(x0, y1, z0), mat, inst, {x0, y0});
 }
 
+// Floor, ceiling, the two walls facing +-y, then the two facing +-x (this order: the mesh, and
+// so every rendered byte, depends on it).
+void RoomShell(Mesh* m, float X0, float X1, float Y0, float Y1, float H, int floor, int ceiling, int wall, int wall2) {
+  QuadZ(m, 0, X0, X1, Y0, Y1, floor, 0);
+  QuadZ(m, H, X0, X1, Y0, Y1, ceiling, 0);
+  QuadY(m, Y1, X0, X1, 0, H, wall, 0);
+  QuadY(m, Y0, X0, X1, 0, H, wall, 0);
+  QuadX(m, X0, Y0, Y1, 0, H, wall2, 0);
+  QuadX(m, X1, Y0, Y1, 0, H, wall2, 0);
+}
+
 }  // namespace
 
 int Scene::AddMaterial(const Material& m) {
@@ -62,12 +73,7 @@ void BuildPlainRoom(uint64_t seed, Scene* s) {
   const int crate = s->AddMaterial(Mat(Pattern::kFlat, C(0.70f, 0.30f, 0.20f), white, dark, 1, rng));
   const int crate2 = s->AddMaterial(Mat(Pattern::kFlat, C(0.25f, 0.45f, 0.30f), white, dark, 1, rng));
   const float X0 = -2.8f, X1 = 2.8f, Y0 = -2.6f, Y1 = 2.45f, H = 2.7f;
-  QuadZ(&m, 0, X0, X1, Y0, Y1, floor, 0);
-  QuadZ(&m, H, X0, X1, Y0, Y1, ceiling, 0);
-  QuadY(&m, Y1, X0, X1, 0, H, wall, 0);
-  QuadY(&m, Y0, X0, X1, 0, H, wall, 0);
-  QuadX(&m, X0, Y0, Y1, 0, H, wall2, 0);
-  QuadX(&m, X1, Y0, Y1, 0, H, wall2, 0);
+  RoomShell(&m, X0, X1, Y0, Y1, H, floor, ceiling, wall, wall2);
   m.AddBox(V(X0, Y1 - 0.02f, 0), V(X1, Y1, 0.1f), metal, 0);  // skirting: a long floor edge
   for (float x : {-1.5f, 0.f, 1.5f}) {
     QuadZ(&m, H - 0.01f, x - 0.3f, x + 0.3f, 0.2f - 0.6f, 0.2f + 0.6f, light, 0);
@@ -115,12 +121,7 @@ void BuildOffice(uint64_t seed, Scene* s) {
 
   // Room shell: x in [-2.8, 2.8], y in [-2.6, 2.45], z in [0, 2.7].
   const float X0 = -2.8f, X1 = 2.8f, Y0 = -2.6f, Y1 = 2.45f, H = 2.7f;
-  QuadZ(&m, 0, X0, X1, Y0, Y1, carpet, 0);
-  QuadZ(&m, H, X0, X1, Y0, Y1, ceiling, 0);
-  QuadY(&m, Y1, X0, X1, 0, H, wall, 0);
-  QuadY(&m, Y0, X0, X1, 0, H, wall, 0);
-  QuadX(&m, X0, Y0, Y1, 0, H, wall2, 0);
-  QuadX(&m, X1, Y0, Y1, 0, H, wall2, 0);
+  RoomShell(&m, X0, X1, Y0, Y1, H, carpet, ceiling, wall, wall2);
   // Skirting boards give long straight edges at the floor.
   m.AddBox(V(X0, Y1 - 0.02f, 0), V(X1, Y1, 0.1f), plastic, 0);
   m.AddBox(V(X0, Y0, 0), V(X0 + 0.02f, Y1, 0.1f), plastic, 0);
