@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "reproduce/blur_tables.h"
 #include "reproduce/epi_tables.h"
+#include "reproduce/mgd_tables.h"
 #include "reproduce/sgdo_table6.h"
 #include "reproduce/semantic_tables.h"
 #include "reproduce/sgdo_tables.h"
@@ -133,6 +134,35 @@ void RegisterReproduceCommand(CLI::App& root, CommandList& out) {
     out.push_back({et, [e, seeds] {
                      if (!seeds->empty()) e->seeds = ParseSeedList(*seeds, "--seeds");
                      return reproduce::RunEpiTable(*e);
+                   }});
+  }
+
+  // MGD-SLAM (seed 000): Table 2 (+ dynamic-feature P/R of the cue ablations) and Tables 4-6.
+  for (const std::string table : {"table2", "table4"}) {
+    auto m = std::make_shared<reproduce::MgdTableArgs>();
+    m->table = table;
+    m->out = "reports/mgd-" + table + ".md";
+    m->sequences = reproduce::MgdTableDefaultSequences(table);
+    auto seeds = std::make_shared<std::vector<std::string>>();
+    CLI::App* mt = rep->add_subcommand(
+        "mgd-" + table, table == "table2"
+                            ? "MGD-SLAM Table 2: ATE of orb, mgd-nd, mgd on 8 synthetic walking/sitting analogues, and "
+                              "dynamic point/line precision/recall/F1 of mgd and its cue ablations, over seeds"
+                            : "MGD-SLAM Tables 4-6: MGD-SLAM-nD ablation ATE and RPE on the walking analogues, "
+                              "per-module ms/frame of mgd, over seeds");
+    mt->add_option("--out", m->out, "Markdown report (default " + m->out + ")");
+    mt->add_option("--work", m->work, "Working folder <work>/seed<S>/{seq,runs}, shared by mgd-table2/4 (default " + m->work + ")");
+    mt->add_option("--frames", m->frames, "Frames per synthetic sequence (default 300)");
+    mt->add_option("--seeds", *seeds, "Synthesis seeds: list and ranges (default 1-3)")->delimiter(',');
+    mt->add_option("--detections", m->detections, "Synthetic detection mode (default yolo-like)");
+    mt->add_option("--sequences", m->sequences, "Presets (default the table's)")->delimiter(',');
+    if (table == "table2")
+      mt->add_flag("--no-ablations", m->no_ablations, "Skip the cue ablations and the precision/recall runs");
+    mt->add_flag("--reuse", m->reuse, "Reuse sequences/runs of an earlier call with identical inputs");
+    mt->add_flag("--collect", m->collect, "Only read: sequences and runs already in --work");
+    out.push_back({mt, [m, seeds] {
+                     if (!seeds->empty()) m->seeds = ParseSeedList(*seeds, "--seeds");
+                     return reproduce::RunMgdTable(*m);
                    }});
   }
 

@@ -28,6 +28,24 @@ void FrameEdit::SetPointDynamicProbability(int64_t mp_id, double p, const std::s
   mp->dynamic.stage = stage;
 }
 
+void FrameEdit::SetLineWeight(int i, double w) {
+  RequireFeatures("FrameEdit::SetLineWeight");
+  std::vector<double>& lw = frame_.structure.line_weight;
+  if (i < 0 || static_cast<size_t>(i) >= lw.size())
+    throw std::logic_error("SetLineWeight: no line " + std::to_string(i) + " in frame " + std::to_string(frame_.index));
+  if (!(w >= 0.0 && w <= 1.0)) throw std::logic_error("SetLineWeight: w outside [0, 1]");
+  lw[static_cast<size_t>(i)] = w;
+}
+
+void FrameEdit::SetLineDynamicProbability(int64_t ml_id, double p, const std::string& stage) {
+  MapLine* l = map_.good_line(ml_id);
+  if (l == nullptr) throw std::logic_error("SetLineDynamicProbability: no map line " + std::to_string(ml_id));
+  if (!(p >= 0.0 && p <= 1.0)) throw std::logic_error("SetLineDynamicProbability: p outside [0, 1]");
+  l->dynamic.p_dynamic = p;
+  l->dynamic.frame = frame_.index;
+  l->dynamic.stage = stage;
+}
+
 cv::Mat& FrameEdit::grey_for_extraction() {
   if (hook_ != Hook::kBeforeExtraction)
     throw std::logic_error("FrameEdit::grey_for_extraction outside the before_extraction hook");

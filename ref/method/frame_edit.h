@@ -28,6 +28,12 @@ class FrameEdit {
   void SetWeight(int i, double w);
   // std::logic_error for an unknown point id or p outside [0, 1].
   void SetPointDynamicProbability(int64_t mp_id, double p, const std::string& stage);
+  // Line i's weight (FrameStructure::line_weight) in [0, 1]; 0 takes the line out of pose
+  // optimisation, local BA and the map (like an excluded point). std::logic_error for a bad
+  // index or w outside [0, 1], or before extraction.
+  void SetLineWeight(int i, double w);
+  // Map line's dynamic probability (std::logic_error for an unknown line or p outside [0, 1]).
+  void SetLineDynamicProbability(int64_t ml_id, double p, const std::string& stage);
   // The grey image extraction will run on (same size and type CV_8U required when replaced);
   // std::logic_error at any other hook than kBeforeExtraction.
   cv::Mat& grey_for_extraction();

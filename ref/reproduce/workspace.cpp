@@ -13,6 +13,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/rng.h"
 #include "core/version.h"
 #include "eval/trajectory_eval.h"
 #include "io/sequence.h"
@@ -59,7 +60,8 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::st
     std::map<int64_t, std::pair<double, double>> obs;
     std::set<int64_t> rejected;
     const std::string prefix = "f" + std::to_string(frame) + ".";
-    for (const trace::Record& r : reader.ReadGroup(g)) {
+    const std::vector<trace::Record> records = reader.ReadGroup(g);
+    for (const trace::Record& r : records) {
       if (r.type == trace::RecordType::kObservation) obs[r.feature_index] = {r.u, r.v};
       if (r.type == trace::RecordType::kDecision && !r.kept && r.kind == trace::EntityKind::kFeature &&
           stages.count(r.stage) && r.entity.rfind(prefix, 0) == 0)
@@ -67,17 +69,71 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::st
     }
     // Per-part truth: the moving pixels of the frame (a seated person's arm, not their still legs).
     const cv::Mat motion = cv::imread(seq_dir + "/gt/motion/" + stamp + ".png", cv::IMREAD_UNCHANGED);
+    const auto moving_pixel = [&](double u, double v) {
+      const int x = static_cast<int>(std::floor(u + 0.5)), y = static_cast<int>(std::floor(v + 0.5));
+      return !motion.empty() && x >= 0 && y >= 0 && x < motion.cols && y < motion.rows && motion.at<uint8_t>(y, x) != 0;
+    };
     for (const auto& [idx, uv] : obs) {
       const bool dyn = gf.IsDynamic(uv.first, uv.second);
       const bool rej = rejected.count(idx) > 0;
       s.tp += dyn && rej, s.fp += !dyn && rej, s.fn += dyn && !rej, s.tn += !dyn && !rej;
-      const int x = static_cast<int>(std::floor(uv.first + 0.5)), y = static_cast<int>(std::floor(uv.second + 0.5));
-      const bool part = !motion.empty() && x >= 0 && y >= 0 && x < motion.cols && y < motion.rows &&
-                        motion.at<uint8_t>(y, x) != 0;
+      const bool part = moving_pixel(uv.first, uv.second);
       s.part_tp += part && rej, s.part_fp += !part && rej, s.part_fn += part && !rej, s.part_tn += !part && !rej;
+    }
+    // Frame lines: the structure record's segment (x0, y0, x1, y1), truth at its midpoint.
+    std::map<std::string, std::pair<double, double>> line_mid;
+    std::set<std::string> line_rejected;
+    for (const trace::Record& r : records) {
+      if (r.kind != trace::EntityKind::kLineSample) continue;
+      if (r.type == trace::RecordType::kProbability && r.stage == "structure") {
+        double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+        for (const trace::NamedValue& nv : r.inputs) {
+          if (nv.name == "x0") x0 = nv.value;
+          if (nv.name == "y0") y0 = nv.value;
+          if (nv.name == "x1") x1 = nv.value;
+          if (nv.name == "y1") y1 = nv.value;
+        }
+        line_mid[r.entity] = {0.5 * (x0 + x1), 0.5 * (y0 + y1)};
+      }
+      if (r.type == trace::RecordType::kDecision && !r.kept && stages.count(r.stage)) line_rejected.insert(r.entity);
+    }
+    for (const auto& [id, uv] : line_mid) {
+      const bool dyn = gf.IsDynamic(uv.first, uv.second), part = moving_pixel(uv.first, uv.second);
+      const bool rej = line_rejected.count(id) > 0;
+      s.line_tp += dyn && rej, s.line_fp += !dyn && rej, s.line_fn += dyn && !rej, s.line_tn += !dyn && !rej;
+      s.line_part_tp += part && rej, s.line_part_fp += !part && rej, s.line_part_fn += part && !rej,
+          s.line_part_tn += !part && !rej;
     }
   }
   s.has_pr = true;
+}
+
+// RUN/rejection.json: the counts of RejectionPrecisionRecall, kept when the full trace is dropped.
+const char* const kRejectionFields[] = {"tp", "fp", "fn", "tn", "part_tp", "part_fp", "part_fn", "part_tn",
+                                        "line_tp", "line_fp", "line_fn", "line_tn", "line_part_tp", "line_part_fp",
+                                        "line_part_fn", "line_part_tn"};
+std::vector<int64_t*> RejectionCounts(RunSummary& s) {
+  return {&s.tp,      &s.fp,      &s.fn,      &s.tn,      &s.part_tp,      &s.part_fp,      &s.part_fn,      &s.part_tn,
+          &s.line_tp, &s.line_fp, &s.line_fn, &s.line_tn, &s.line_part_tp, &s.line_part_fp, &s.line_part_fn,
+          &s.line_part_tn};
+}
+void WriteRejectionCounts(RunSummary& s, const std::string& key) {
+  nlohmann::json j;
+  j["key"] = Fnv1a64(key);  // of the run's marker: sequence, commit and config
+  const std::vector<int64_t*> c = RejectionCounts(s);
+  for (size_t i = 0; i < c.size(); ++i) j[kRejectionFields[i]] = *c[i];
+  AtomicWriteFile(s.run_dir + "/rejection.json", j.dump(1) + "\n");
+}
+// false when the file is missing or was counted for another run (key).
+bool ReadRejectionCounts(RunSummary& s, const std::string& key) {
+  const std::string path = s.run_dir + "/rejection.json";
+  if (!fs::exists(path)) return false;
+  const nlohmann::json j = nlohmann::json::parse(ReadText(path), nullptr, false);
+  if (j.is_discarded() || j.value("key", uint64_t{0}) != Fnv1a64(key)) return false;
+  const std::vector<int64_t*> c = RejectionCounts(s);
+  for (size_t i = 0; i < c.size(); ++i) *c[i] = j.value(kRejectionFields[i], int64_t{0});
+  s.has_pr = true;
+  return true;
 }
 
 // kCollect: SEQ/synth.yaml (written by `dynref synth`) must state the spec's arguments.
@@ -267,9 +323,16 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
     s.ms_modules["stages"] = stages;
   }
   if (has_stages && stage_trace_level_ == "full") {
-    std::set<std::string> stages;
-    for (const StageConfig& sc : config.stages) stages.insert(sc.name);
-    RejectionPrecisionRecall(seq_dir, stages, s);
+    const std::string key = fs::exists(marker) ? ReadText(marker) : config.ToJson();
+    if (fs::exists(s.run_dir + "/trace.dtr")) {
+      std::set<std::string> stages;
+      for (const StageConfig& sc : config.stages) stages.insert(sc.name);
+      RejectionPrecisionRecall(seq_dir, stages, s);
+      if (mode_ == WorkMode::kMake) WriteRejectionCounts(s, key);
+      if (!keep_full_traces_ && mode_ == WorkMode::kMake) fs::remove(s.run_dir + "/trace.dtr");
+    } else if (!ReadRejectionCounts(s, key)) {
+      throw InputError(s.run_dir, "has neither trace.dtr nor a current rejection.json (run it again without --reuse)");
+    }
   }
   return s;
 }

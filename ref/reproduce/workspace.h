@@ -37,6 +37,10 @@ struct RunSummary {
   bool has_pr = false;  // precision/recall of rejected features (methods with stages)
   int64_t tp = 0, fp = 0, fn = 0, tn = 0;  // truth: the keypoint's instance moves (SEQ/gt/moving.txt)
   int64_t part_tp = 0, part_fp = 0, part_fn = 0, part_tn = 0;  // truth: its pixel moves (SEQ/gt/motion/*.png)
+  // Frame lines (kind line_sample decisions), truth at the segment's midpoint: its instance moves /
+  // its pixel moves. Only runs whose frames have lines (backbone lines on) count any.
+  int64_t line_tp = 0, line_fp = 0, line_fn = 0, line_tn = 0;
+  int64_t line_part_tp = 0, line_part_fp = 0, line_part_fn = 0, line_part_tn = 0;
   bool has_rpe = false;     // RPE over 1 s (evaluate_rpe.py --fixed_delta --delta 1): m/s and deg/s
   ErrorStats rpe_trans, rpe_rot;
   double ms_slam = std::nan("");  // run.json timing: mean thread-CPU ms per frame (machine-dependent)
@@ -80,6 +84,10 @@ class Workspace {
   // "frames" keeps runs with stages at trace level frames (no precision/recall; for methods that
   // trace every keypoint of 3000-feature frames, where full traces of a table reach tens of GB).
   void set_stage_trace_level(const std::string& level) { stage_trace_level_ = level; }
+  // With false, a run traced at level full keeps only its precision/recall counts
+  // (RUN/rejection.json, also read back on --reuse / --collect) and its trace.dtr is deleted once
+  // counted: full traces of a whole table would fill the disk (~250 MB per 300-frame run).
+  void set_keep_full_traces(bool keep) { keep_full_traces_ = keep; }
 
  private:
   std::string dir_;
@@ -87,6 +95,7 @@ class Workspace {
   bool reuse_;
   WorkMode mode_;
   std::string stage_trace_level_ = "full";
+  bool keep_full_traces_ = true;
   std::set<std::string> made_;  // sequences synthesised by this Workspace (never twice)
 };
 

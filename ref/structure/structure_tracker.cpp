@@ -130,6 +130,7 @@ double StructureTracker::Associate(Frame& f, const Map& map) const {
       const double t0 = 0, t1 = (pb - pa).norm();
       for (size_t i = 0; i < s.lines.size(); ++i) {
         const FrameLine& F = s.lines[i];
+        if (s.line_weight[i] <= 0) continue;  // taken out by a dynamic stage (FrameEdit::SetLineWeight)
         if (F.l.head<2>().squaredNorm() == 0 || features::LineAngleDiff(ang, F.angle) >= gate) continue;
         const Eigen::Vector2d fm = 0.5 * (F.s + F.e);
         const double d1 = std::fabs(lp.dot(Eigen::Vector3d(fm.x(), fm.y(), 1)));
@@ -191,7 +192,7 @@ optim::PoseStructure StructureTracker::BuildPoseStructure(const Frame& f, const 
   const bool ids = trace_.full_enabled();
   for (size_t i = 0; i < s.lines.size(); ++i) {
     const MapLine* L = s.map_line_ids[i] >= 0 ? map.good_line(s.map_line_ids[i]) : nullptr;
-    if (L == nullptr) continue;
+    if (L == nullptr || s.line_weight[i] <= 0) continue;
     optim::LineObservation o;
     o.X_w = L->Samples();
     o.l = s.lines[i].l;
@@ -251,6 +252,7 @@ void StructureTracker::CreateLandmarks(Frame& f, KeyFrame& kf, Map& map) const {
   const SE3 T_wc = f.T_cw.inverse();
   int new_lines = 0, new_planes = 0;
   for (size_t i = 0; i < s.lines.size(); ++i) {
+    if (s.line_weight[i] <= 0) continue;  // dynamic: neither observes nor creates a map line
     const int64_t id = s.line_outlier[i] ? -1 : s.map_line_ids[i];
     if (id >= 0 && map.good_line(id) != nullptr) {
       map.AddLineObservation(id, kf.id, static_cast<int>(i));

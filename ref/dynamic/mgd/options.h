@@ -13,6 +13,8 @@ enum class SmoothingForm { kNewEvidence /* (1-a) P_prev + a S (proposed) */, kOl
 // spec 000 E5: dtheta of P_LS.
 enum class AngleForm { kAngleToMean /* unsigned angle between v_i and vbar (proposed) */, kLiteralArctan /* arctan(dv/du) */ };
 // spec 000 E13: observation weight of a kept feature.
+// spec 000 E12: cues of a line sample (line_samples.h).
+enum class LineCueForm { kPseudoPoint /* samples as points (proposed) */, kNormal /* normal flow, depth transfer */ };
 enum class WeightForm { kOneMinusP /* w = 1 - P (proposed) */, kNone /* w = 1 */ };
 
 struct MgdOptions {
@@ -38,6 +40,11 @@ struct MgdOptions {
   SmoothingForm smoothing = SmoothingForm::kNewEvidence;
   bool diffusion = true;
   double radius_m = 0.15;                      // Table 1
+  // Line samples (Sec. 3.4, spec step 11): frame-to-frame line correspondence and cue form.
+  LineCueForm line_cue_form = LineCueForm::kPseudoPoint;
+  double line_match_angle_deg = 3;             // paper Sec. 3.2 tau_theta (spec E14 gate)
+  double line_match_radius_px = 15;            // as match_radius_px
+  int line_match_bits = 90;                    // as the backbone's line_match_bits
   // Suppression and weighting (Sec. 3.6).
   double tau_dyn = 0.5;                        // not stated (spec (c))
   WeightForm weight = WeightForm::kOneMinusP;

@@ -19,6 +19,10 @@ void MgdOptions::Check() const {
   if (!(radius_m > 0)) throw std::invalid_argument("radius_m must be > 0");
   if (!in01(tau_dyn)) throw std::invalid_argument("tau_dyn must be in [0, 1]");
   if (min_velocity_px < 0) throw std::invalid_argument("min_velocity_px must be >= 0");
+  if (!(line_match_angle_deg > 0 && line_match_angle_deg < 90))
+    throw std::invalid_argument("line_match_angle_deg must be in (0, 90)");
+  if (!(line_match_radius_px > 0)) throw std::invalid_argument("line_match_radius_px must be > 0");
+  if (line_match_bits < 0 || line_match_bits > 256) throw std::invalid_argument("line_match_bits must be in [0, 256]");
 }
 
 double Sigmoid(double z) { return 1.0 / (1.0 + std::exp(-z)); }

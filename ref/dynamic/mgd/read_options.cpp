@@ -12,7 +12,8 @@ MgdOptions ReadOptions(const ParamMap& p) {
   p.RequireKnownKeys({"min_confidence", "dynamic_classes", "initial_pose_out_of_box", "p_init_box", "p_init_free",
                       "delta", "match_radius_px", "use_ls", "use_pro", "use_mf", "d_th_ls_px", "theta_th_ls_rad",
                       "a_ls", "angle_form", "min_velocity_px", "d_th_pro_px", "a_pro", "d_th_mf_px", "a_mf", "w_ls",
-                      "w_pro", "w_mf", "a", "smoothing", "diffusion", "radius_m", "tau_dyn", "weight"});
+                      "w_pro", "w_mf", "a", "smoothing", "diffusion", "radius_m", "tau_dyn", "weight", "line_cue_form",
+                      "line_match_angle_deg", "line_match_radius_px", "line_match_bits"});
   MgdOptions o;
   o.min_confidence = p.GetDouble("min_confidence");
   o.dynamic_class_ids = p.GetCocoClassIds("dynamic_classes");
@@ -51,6 +52,11 @@ MgdOptions ReadOptions(const ParamMap& p) {
   o.diffusion = p.GetBool("diffusion");
   o.radius_m = p.GetDouble("radius_m");
   o.tau_dyn = p.GetDouble("tau_dyn");
+  o.line_cue_form = choice("line_cue_form", {"pseudo_point", "normal"}) == 0 ? LineCueForm::kPseudoPoint
+                                                                           : LineCueForm::kNormal;
+  o.line_match_angle_deg = p.GetDouble("line_match_angle_deg");
+  o.line_match_radius_px = p.GetDouble("line_match_radius_px");
+  o.line_match_bits = static_cast<int>(p.GetInt("line_match_bits"));
   o.weight = choice("weight", {"one_minus_p", "none"}) == 0 ? WeightForm::kOneMinusP : WeightForm::kNone;
   try {
     o.Check();

@@ -7,11 +7,10 @@
 // carry the box prior.
 #include <algorithm>
 
+#include "dynamic/mgd/line_samples.h"
 #include "dynamic/mgd/stages.h"
 
 namespace dynref::mgd {
-namespace {
-
 bool InKeptBox(const FrameDetections* det, const MgdOptions& o, float u, float v) {
   if (det == nullptr) return false;
   for (const DetectedInstance& inst : det->instances) {
@@ -22,8 +21,6 @@ bool InKeptBox(const FrameDetections* det, const MgdOptions& o, float u, float v
   }
   return false;
 }
-
-}  // namespace
 
 void BoxStage::Run(StageContext& ctx) {
   const MgdOptions& o = RequireOptions(*state_, name());
@@ -38,7 +35,9 @@ void BoxStage::Run(StageContext& ctx) {
     in_box += s.in_box[i];
   }
   ctx.trace.FrameCount(name(), "in_box", in_box);
+  s.line_in_box = LineSampleBoxFlags(f, o);
   if (!ctx.initialised) {  // initialisation frame: the box prior only
+    InitialiseLinePriors(ctx, o, s);
     s.prev_frame = f.index;
     s.prev_p.assign(f.N(), -1.0);
     for (size_t i = 0; i < f.N(); ++i) {
@@ -54,9 +53,15 @@ void BoxStage::Run(StageContext& ctx) {
     }
     return;
   }
-  if (o.initial_pose_out_of_box)
+  if (o.initial_pose_out_of_box) {
     for (size_t i = 0; i < f.N(); ++i)
       if (s.in_box[i] && !f.IsExcluded(static_cast<int>(i))) ctx.frame.SetWeight(static_cast<int>(i), 0.0);
+    // Lines with any sample in a box leave the initial pose too (weight 0; mgd.probability sets
+    // the real weight before the local-map search).
+    for (size_t i = 0; i < s.line_in_box.size(); ++i)
+      if (s.line_in_box[i][0] || s.line_in_box[i][1] || s.line_in_box[i][2])
+        ctx.frame.SetLineWeight(static_cast<int>(i), 0.0);
+  }
 }
 
 }  // namespace dynref::mgd

@@ -1,4 +1,5 @@
-// mgd.probability (kAfterInitialPose): seed 000 Sec. 3.4-3.6, spec steps 7-13 for points.
+// mgd.probability (kAfterInitialPose): seed 000 Sec. 3.4-3.6, spec steps 7-13 for points and
+// step 11 for line samples (line_samples.h; they share the diffusion with the points).
 // Per non-excluded feature: inherited P_prev (previous-frame feature, else its map point, else
 // P_init by Flag_d), the cues P_LS (short-term velocity deviation from the out-of-box mean flow),
 // P_pro (cached per map point by mgd.reprojection) and P_mf (distance to the epipolar line of F
@@ -8,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "dynamic/mgd/correspondence.h"
+#include "dynamic/mgd/line_samples.h"
 #include "dynamic/mgd/probability.h"
 #include "dynamic/mgd/stages.h"
 #include "geometry/fundamental.h"
@@ -55,10 +57,12 @@ void ProbabilityStage::Run(StageContext& ctx) {
   Eigen::Vector2d vbar = Eigen::Vector2d::Zero();
   const bool has_vbar = prev != nullptr && MeanBackgroundVelocity(f, *prev, corr, s.in_box, &vbar);
   // F of the initial relative pose (spec E9: the line in frame k is F x^{k-1}).
-  bool has_F = false;
+  bool has_F = false, has_T = false;
   Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+  SE3 T_cur_prev = SE3::Identity();
   if (prev != nullptr && prev->has_pose && f.has_pose) {
-    const SE3 T_cur_prev = f.T_cw * prev->T_cw.inverse();
+    T_cur_prev = f.T_cw * prev->T_cw.inverse();
+    has_T = true;
     if (T_cur_prev.translation().norm() > 1e-9) {
       const Intrinsics K = ctx.camera.Pinhole();
       Eigen::Matrix3d Km;
@@ -142,8 +146,18 @@ void ProbabilityStage::Run(StageContext& ctx) {
       tr.ProbabilityUpdate("mgd.smooth", trace::EntityKind::kFeature, id, {{"S", S}, {"a", o.a}}, p_prev, p_smooth[i]);
     }
   }
-  // Step 10: diffusion (Jacobi) over the features with a 3-D point.
-  std::vector<int> neighbours(n, 0);
+  // Step 11: line samples through steps 7-9 (line_samples.h).
+  const LineSampleNodes lines = EvaluateLineSamples(ctx, o, s, has_vbar ? &vbar : nullptr, has_F ? &F : nullptr,
+                                                    has_T ? &T_cur_prev : nullptr, name());
+  // Step 10: diffusion (Jacobi) over the features and line samples with a 3-D point; nodes are
+  // the n features in index order, then 3 samples per line.
+  for (size_t i = 0; i < lines.size(); ++i)
+    for (size_t k = 0; k < 3; ++k) {
+      points.push_back(lines.X[i][k]);
+      has_point.push_back(lines.has_X[i][k]);
+      p_smooth.push_back(lines.p_smooth[i][k]);
+    }
+  std::vector<int> neighbours(p_smooth.size(), 0);
   const std::vector<double> p = o.diffusion ? Diffuse(points, has_point, p_smooth, o.radius_m, &neighbours) : p_smooth;
   // Steps 13 and 15: suppression / weights, write-back.
   int64_t suppressed = 0;
@@ -167,6 +181,8 @@ void ProbabilityStage::Run(StageContext& ctx) {
       tr.Decision(name(), trace::EntityKind::kFeature, f.FeatureId(fi), true, "p<=tau_dyn");
     }
   }
+  DecideLines(ctx, o, s, lines, std::vector<double>(p.begin() + static_cast<std::ptrdiff_t>(n), p.end()),
+              std::vector<int>(neighbours.begin() + static_cast<std::ptrdiff_t>(n), neighbours.end()), name());
   s.prev_frame = f.index;
   s.prev_p = std::move(next_prev);
   tr.FrameCount(name(), "inherit_prev_frame", counts[0]);

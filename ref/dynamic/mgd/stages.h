@@ -16,6 +16,9 @@ MgdOptions ReadOptions(const ParamMap& p);
 // The options of the run; std::logic_error naming `stage` when mgd.probability is not configured.
 const MgdOptions& RequireOptions(const MgdState& state, const std::string& stage);
 
+// Flag_d (Sec. 3.3): (u, v) inside a box with confidence > min_confidence of a dynamic class.
+bool InKeptBox(const FrameDetections* det, const MgdOptions& o, float u, float v);
+
 class BoxStage : public Stage {
  public:
   explicit BoxStage(std::shared_ptr<MgdState> state) : state_(std::move(state)) {}

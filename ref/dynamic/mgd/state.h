@@ -1,5 +1,6 @@
 // Per-run state shared by the MGD-SLAM stages (SharedState key kStateKey).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -26,9 +27,11 @@ struct MgdState {
   int frame = -1;
   std::string stamp;
   std::vector<uint8_t> in_box;  // Flag_d per feature
+  std::vector<std::array<uint8_t, 3>> line_in_box;  // Flag_d per line sample s, m, e
   // Previous processed frame: P per feature (-1 = none), by feature index.
   int prev_frame = -1;
   std::vector<double> prev_p;
+  std::vector<std::array<double, 3>> prev_line_p;  // per previous-frame line and sample (-1 = none)
   // P_pro per map point (mgd.reprojection), kept current through landmark events.
   std::map<int64_t, ProCue> pro;
 };

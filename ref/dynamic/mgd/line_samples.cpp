@@ -1,0 +1,196 @@
+#include "dynamic/mgd/line_samples.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "dynamic/mgd/probability.h"
+#include "dynamic/mgd/stages.h"
+#include "geometry/fundamental.h"
+
+namespace dynref::mgd {
+namespace {
+
+std::array<Eigen::Vector2d, 3> SamplePixels(const FrameLine& L) { return {L.s, 0.5 * (L.s + L.e), L.e}; }
+
+// Kept lines: weight 1 - max P (or 1); above tau_dyn: weight 0.
+double LineWeight(double p_max, const MgdOptions& o) {
+  if (p_max > o.tau_dyn) return 0.0;
+  return o.weight == WeightForm::kOneMinusP ? 1.0 - p_max : 1.0;
+}
+
+}  // namespace
+
+std::vector<std::array<uint8_t, 3>> LineSampleBoxFlags(const Frame& f, const MgdOptions& o) {
+  std::vector<std::array<uint8_t, 3>> flags(f.structure.lines.size(), {0, 0, 0});
+  for (size_t i = 0; i < flags.size(); ++i) {
+    const auto px = SamplePixels(f.structure.lines[i]);
+    for (size_t k = 0; k < 3; ++k)
+      flags[i][k] = InKeptBox(f.detections, o, static_cast<float>(px[k].x()), static_cast<float>(px[k].y())) ? 1 : 0;
+  }
+  return flags;
+}
+
+void InitialiseLinePriors(StageContext& ctx, const MgdOptions& o, MgdState& s) {
+  const size_t n = s.line_in_box.size();
+  s.prev_line_p.assign(n, {-1.0, -1.0, -1.0});
+  for (size_t i = 0; i < n; ++i) {
+    double p_max = 0;
+    for (size_t k = 0; k < 3; ++k) {
+      s.prev_line_p[i][k] = s.line_in_box[i][k] ? o.p_init_box : o.p_init_free;
+      p_max = std::max(p_max, s.prev_line_p[i][k]);
+    }
+    ctx.frame.SetLineWeight(static_cast<int>(i), LineWeight(p_max, o));
+  }
+}
+
+LineSampleNodes EvaluateLineSamples(StageContext& ctx, const MgdOptions& o, const MgdState& s,
+                                    const Eigen::Vector2d* vbar, const Eigen::Matrix3d* F, const SE3* T_cur_prev,
+                                    const std::string& stage) {
+  const Frame& f = ctx.frame.view();
+  const FrameStructure& fs = f.structure;
+  const size_t n = fs.lines.size();
+  LineSampleNodes out;
+  out.p_prev.assign(n, {-1.0, -1.0, -1.0});
+  out.p_smooth.assign(n, {-1.0, -1.0, -1.0});
+  out.X.assign(n, {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()});
+  out.has_X.assign(n, {false, false, false});
+  out.corr.assign(n, structure::LineCorrespondence{});
+  if (n == 0) return out;
+  const Frame* prev = ctx.previous;
+  const bool have_prev = prev != nullptr && !prev->structure.lines.empty();
+  if (have_prev) {
+    structure::LineMatchGates g;
+    g.angle_rad = o.line_match_angle_deg * M_PI / 180.0;
+    g.radius_px = o.line_match_radius_px;
+    g.max_bits = o.line_match_bits;
+    out.corr = structure::MatchLinesToPrevious(fs, prev->structure, g);
+  }
+  const bool have_prev_p = have_prev && s.prev_frame == prev->index && s.prev_line_p.size() == prev->structure.lines.size();
+  const Intrinsics K = ctx.camera.Pinhole();
+  trace::TraceWriter& tr = ctx.trace;
+  const bool full = tr.full_enabled();
+  int64_t counts[3] = {0, 0, 0};
+  for (size_t i = 0; i < n; ++i) {
+    const FrameLine& L = fs.lines[i];
+    const structure::LineCorrespondence& c = out.corr[i];
+    const int64_t ml = i < fs.map_line_ids.size() ? fs.map_line_ids[i] : -1;
+    const MapLine* map_line = ml >= 0 ? ctx.map.good_line(ml) : nullptr;
+    const auto px = SamplePixels(L);
+    const std::array<Eigen::Vector2d, 3> prev_px =
+        c.prev_index >= 0 ? SamplePixels(prev->structure.lines[static_cast<size_t>(c.prev_index)])
+                          : std::array<Eigen::Vector2d, 3>{};
+    const std::string id = FrameStructure::LineId(f.index, static_cast<int>(i));
+    for (size_t k = 0; k < 3; ++k) {
+      const size_t kp = c.reversed ? 2 - k : k;  // the previous line's matching sample
+      // Step 7: inheritance (previous line sample, else the map line, else P_init(Flag_d)).
+      double p_prev;
+      int source;
+      if (c.prev_index >= 0 && have_prev_p && s.prev_line_p[static_cast<size_t>(c.prev_index)][kp] >= 0) {
+        p_prev = s.prev_line_p[static_cast<size_t>(c.prev_index)][kp], source = 0;
+      } else if (map_line != nullptr && map_line->dynamic.p_dynamic >= 0) {
+        p_prev = map_line->dynamic.p_dynamic, source = 1;
+      } else {
+        p_prev = s.line_in_box[i][k] ? o.p_init_box : o.p_init_free, source = 2;
+      }
+      ++counts[source];
+      // Step 8: cues (E12: pseudo-point or normal form; P_pro not computed for lines).
+      Cues cues;
+      VelocityDeviation dev;
+      double d_mf = 0;
+      const Eigen::Vector3d l = L.l;
+      const bool has_line = l.head<2>().squaredNorm() > 0;
+      if (c.prev_index >= 0 && vbar != nullptr) {
+        if (o.line_cue_form == LineCueForm::kPseudoPoint) {
+          dev = Deviation(px[k] - prev_px[kp], *vbar, o);
+        } else if (has_line) {
+          // Normal flow: n . (x^k - x^{k-1}) = -l . x^{k-1} for x^k on the current line.
+          dev.d_px = std::fabs(l.dot(Eigen::Vector3d(prev_px[kp].x(), prev_px[kp].y(), 1.0)) + l.head<2>().dot(*vbar));
+          dev.dtheta = o.theta_th_ls_rad;
+        }
+        cues.has_ls = o.line_cue_form == LineCueForm::kPseudoPoint || has_line;
+        if (cues.has_ls) cues.p_ls = ProbabilityLS(dev, o);
+      }
+      if (c.prev_index >= 0) {
+        if (o.line_cue_form == LineCueForm::kPseudoPoint && F != nullptr) {
+          d_mf = geometry::EpipolarDistance(*F, prev_px[kp], px[k]);
+          cues.has_mf = true;
+        } else if (o.line_cue_form == LineCueForm::kNormal && T_cur_prev != nullptr && has_line) {
+          const FrameLine& P = prev->structure.lines[static_cast<size_t>(c.prev_index)];
+          if (P.sample_depth[kp]) {
+            const Eigen::Vector3d Xk = *T_cur_prev * P.X_c[kp];
+            if (Xk.z() > 0) {
+              const Eigen::Vector2d u = K.Project(Xk);
+              d_mf = std::fabs(l.dot(Eigen::Vector3d(u.x(), u.y(), 1.0)));
+              cues.has_mf = true;
+            }
+          }
+        }
+        if (cues.has_mf) cues.p_mf = ProbabilityMF(d_mf, o);
+      }
+      const double S = Fuse(cues, o);
+      out.p_prev[i][k] = p_prev;
+      out.p_smooth[i][k] = Smooth(p_prev, S, o);
+      if (L.sample_depth[k]) out.X[i][k] = L.X_c[k], out.has_X[i][k] = true;
+      if (full) {
+        const double sample = static_cast<double>(k), mld = static_cast<double>(ml);
+        const trace::EntityKind kind = trace::EntityKind::kLineSample;
+        tr.ProbabilityUpdate("mgd.inherit", kind, id,
+                             {{"sample", sample}, {"source", double(source)}, {"prev_index", double(c.prev_index)},
+                              {"prev_sample", double(kp)}, {"map_line", mld}, {"in_box", double(s.line_in_box[i][k])},
+                              {"hamming", double(c.hamming)}, {"match", double(c.source)}},
+                             p_prev, p_prev);
+        tr.ProbabilityUpdate("mgd.P_LS", kind, id,
+                             {{"sample", sample}, {"computable", double(cues.has_ls)}, {"d_px", dev.d_px},
+                              {"dtheta", dev.dtheta}, {"map_line", mld}},
+                             0.5, cues.has_ls ? cues.p_ls : 0.5);
+        tr.ProbabilityUpdate("mgd.P_mf", kind, id,
+                             {{"sample", sample}, {"computable", double(cues.has_mf)}, {"d_px", d_mf}, {"map_line", mld}},
+                             0.5, cues.has_mf ? cues.p_mf : 0.5);
+        tr.ProbabilityUpdate("mgd.smooth", kind, id, {{"sample", sample}, {"S", S}, {"a", o.a}, {"map_line", mld}},
+                             p_prev, out.p_smooth[i][k]);
+      }
+    }
+  }
+  tr.FrameCount(stage, "line_inherit_prev_frame", counts[0]);
+  tr.FrameCount(stage, "line_inherit_map_line", counts[1]);
+  tr.FrameCount(stage, "line_inherit_init", counts[2]);
+  return out;
+}
+
+int64_t DecideLines(StageContext& ctx, const MgdOptions& o, MgdState& s, const LineSampleNodes& nodes,
+                    const std::vector<double>& p_diffused, const std::vector<int>& neighbours,
+                    const std::string& stage) {
+  const Frame& f = ctx.frame.view();
+  const size_t n = nodes.size();
+  if (p_diffused.size() != 3 * n || neighbours.size() != 3 * n)
+    throw std::logic_error("mgd DecideLines: 3 values per line expected");
+  trace::TraceWriter& tr = ctx.trace;
+  const bool full = tr.full_enabled();
+  s.prev_line_p.assign(n, {-1.0, -1.0, -1.0});
+  int64_t out = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const std::string id = FrameStructure::LineId(f.index, static_cast<int>(i));
+    const int64_t ml = i < f.structure.map_line_ids.size() ? f.structure.map_line_ids[i] : -1;
+    double p_max = 0;
+    for (size_t k = 0; k < 3; ++k) {
+      const double p = p_diffused[3 * i + k];
+      s.prev_line_p[i][k] = p;
+      p_max = std::max(p_max, p);
+      if (full)
+        tr.ProbabilityUpdate("mgd.diffuse", trace::EntityKind::kLineSample, id,
+                             {{"sample", double(k)}, {"neighbours", double(neighbours[3 * i + k])},
+                              {"map_line", double(ml)}},
+                             nodes.p_smooth[i][k], p);
+    }
+    const double w = LineWeight(p_max, o);
+    ctx.frame.SetLineWeight(static_cast<int>(i), w);
+    if (ml >= 0 && ctx.map.good_line(ml) != nullptr) ctx.frame.SetLineDynamicProbability(ml, p_max, stage);
+    if (w <= 0) ++out;
+    if (full)
+      tr.Decision(stage, trace::EntityKind::kLineSample, id, w > 0, w > 0 ? "max_p<=tau_dyn" : "max_p>tau_dyn");
+  }
+  tr.FrameCount(stage, "lines_suppressed", out);
+  return out;
+}
+
+}  // namespace dynref::mgd
