@@ -8,6 +8,21 @@
 #include "trace/trace_writer.h"
 
 namespace dynref {
+namespace {
+
+// A depth discontinuity at (u, v): a pixel of the 5x5 window without depth, or whose depth differs
+// from d by more than rel * d (window clipped at the image border).
+bool OnDepthEdge(const cv::Mat& depth_m, int u, int v, float d, double rel) {
+  const double tol = rel * d;
+  for (int y = std::max(0, v - 2); y <= std::min(depth_m.rows - 1, v + 2); ++y)
+    for (int x = std::max(0, u - 2); x <= std::min(depth_m.cols - 1, u + 2); ++x) {
+      const float e = depth_m.at<float>(y, x);
+      if (!(e > 0) || !std::isfinite(e) || std::fabs(double(e) - double(d)) > tol) return true;
+    }
+  return false;
+}
+
+}  // namespace
 
 ScalePyramid ScalePyramid::Make(int n_levels, double scale_factor) {
   ScalePyramid p;
@@ -54,7 +69,7 @@ std::string Frame::FeatureId(int i) const {
   return "f" + std::to_string(index) + "." + std::to_string(i);
 }
 
-void Frame::FinishFeatures(const Camera& cam) {
+void Frame::FinishFeatures(const Camera& cam, double depth_edge_rel) {
   camera = &cam;
   const size_t n = keys.size();
   // Undistortion (ORB-SLAM2 Frame::UndistortKeyPoints, Frame::ComputeImageBounds).
@@ -94,6 +109,7 @@ void Frame::FinishFeatures(const Camera& cam) {
     const int v = static_cast<int>(keys[i].pt.y), u = static_cast<int>(keys[i].pt.x);
     if (depth_m.empty() || v < 0 || u < 0 || v >= depth_m.rows || u >= depth_m.cols) continue;
     const float d = depth_m.at<float>(v, u);
+    if (d > 0 && std::isfinite(d) && depth_edge_rel > 0 && OnDepthEdge(depth_m, u, v, d, depth_edge_rel)) continue;
     if (d > 0 && std::isfinite(d)) {
       depth[i] = d;
       u_right[i] = keys_un[i].pt.x - static_cast<float>(cam.bf) / d;

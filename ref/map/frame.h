@@ -86,7 +86,10 @@ class Frame {
   // ---- geometry ----
   // Sizes the per-key vectors, computes depth/u_right from depth_m (ORB-SLAM2
   // ComputeStereoFromRGBD: depth sampled at the raw keypoint) and builds the grid.
-  void FinishFeatures(const Camera& camera);
+  // depth_edge_rel > 0 (backbone key depth_edge_rel; 0 = ORB-SLAM2): a keypoint on a depth
+  // discontinuity gets no depth (monocular point), i.e. when a pixel of its 5x5 neighbourhood has
+  // no depth or differs from the keypoint's by more than depth_edge_rel * d.
+  void FinishFeatures(const Camera& camera, double depth_edge_rel = 0);
   // Camera centre in world coordinates.
   Eigen::Vector3d CameraCentre() const { return T_cw.inverse().translation(); }
   // Back-projection of key i with its depth into the world (requires depth[i] > 0).

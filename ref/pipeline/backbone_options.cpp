@@ -46,6 +46,12 @@ const std::vector<KeyRow>& Rows() {
        "(Tracking::GrabImageRGBD converts with CV_RGB2GRAY, so blue gets red's weight); "
        "false = luminance of the true colours (COLOR_BGR2GRAY)",
        K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.camera_rgb_flag = v != 0; }},
+      {"depth_edge_rel", "0",
+       "dynref (issue 13): not in ORB-SLAM2, whose ComputeStereoFromRGBD samples the keypoint's one pixel (0 = that); "
+       "> 0: a keypoint whose 5x5 neighbourhood has a pixel without depth or one differing by more than this fraction "
+       "of its depth gets no depth (monocular point): corners on silhouettes otherwise take either side's depth "
+       "(a 3-5 % scale bias on static_lowtexture, reports/structure_bench.md)",
+       K::kDouble, 0, 1, false, [](BackboneOptions& o, double v) { o.depth_edge_rel = v; }},
       {"ini_th_fast", "20", "default: ORB-SLAM2 ORBextractor.iniThFAST", K::kInt, 1, 255, false,
        [](BackboneOptions& o, double v) { o.orb.ini_th_fast = static_cast<int>(v); }},
       {"keyframe_culling", "true", "default: ORB-SLAM2 LocalMapping::KeyFrameCulling", K::kBool, 0, 0, false,

@@ -24,6 +24,8 @@ struct BackboneOptions {
   structure::StructureOptions structure;       // lines and planes (issue 13), off by default
   // ORB-SLAM2 TUM1-3.yaml Camera.RGB: 1 applied to cv::imread's BGR images (see the key's source).
   bool camera_rgb_flag = true;
+  // Keypoints on depth discontinuities get no depth when > 0 (Frame::FinishFeatures; 0 = ORB-SLAM2).
+  double depth_edge_rel = 0;
   void Check() const;  // InputError naming the bad field
 };
 

@@ -73,7 +73,7 @@ bool FrameLoop::Process(size_t k) {
       throw std::logic_error("a before_extraction stage changed the grey image's size or type");
     extractor_.Extract(f.grey, &f.keys, &f.descriptors);
     f.pyramid = pyramid_;
-    f.FinishFeatures(camera_);
+    f.FinishFeatures(camera_, inputs_.config->backbone.depth_edge_rel);
     double lines_ms = 0, planes_ms = 0;
     if (structure_ != nullptr) structure_->Extract(f, &lines_ms, &planes_ms);
     const double t1 = NowMs();

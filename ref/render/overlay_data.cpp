@@ -153,7 +153,9 @@ std::vector<OverlayFrame> CollectOverlayFrames(trace::TraceReader& reader, int64
               s.decision = r.kept ? 1 : 0;
               break;
             }
-            s.has_prob = true, s.prob = r.after;
+            // The backbone's geometry record (stage "structure", written after the final pose)
+            // carries no probability: it must not overwrite a method's.
+            if (r.stage != "structure") s.has_prob = true, s.prob = r.after;
             bool found = true;
             const bool line = r.kind == EntityKind::kLineSample;
             const double x0 = InputOr(r, line ? "x0" : "x_min", s.x0, &found);

@@ -75,3 +75,31 @@ TEST_CASE("frame: weights default to 1 and are per feature") {
   CHECK(f.Weight(6) == 1.0);
   CHECK(f.FeatureId(5) == "f7.5");
 }
+
+TEST_CASE("frame: depth_edge_rel drops the depth of keypoints on depth discontinuities only") {
+  const Camera cam = Cam();
+  Frame f;
+  f.depth_m = cv::Mat(cam.height, cam.width, CV_32F, cv::Scalar(2.0f));
+  f.depth_m(cv::Rect(300, 0, 340, cam.height)).setTo(3.0f);  // a 1 m step at column 300
+  f.depth_m.at<float>(200, 101) = 0.0f;                       // a hole next to key 2
+  f.depth_m.at<float>(50, 52) = 2.08f;                        // 4 % away from key 3's 2 m
+  for (const cv::Point2f p : {cv::Point2f(100.f, 100.f), cv::Point2f(299.f, 100.f), cv::Point2f(100.f, 200.f),
+                              cv::Point2f(50.f, 50.f), cv::Point2f(301.f, 100.f)})
+    f.keys.emplace_back(p, 31.f, 0.f, 1.f, 0);
+  f.descriptors = cv::Mat::zeros(5, 32, CV_8U);
+  f.pyramid = dynref::ScalePyramid::Make(8, 1.2);
+  f.FinishFeatures(cam);  // ORB-SLAM2: every key with depth at its pixel
+  CHECK(f.depth[0] == 2.0f);
+  CHECK(f.depth[1] == 2.0f);
+  CHECK(f.depth[2] == 2.0f);
+  CHECK(f.depth[4] == 3.0f);
+  f.FinishFeatures(cam, 0.05);
+  CHECK(f.depth[0] == 2.0f);  // flat
+  CHECK(f.depth[1] < 0);      // column 301 (in its 5x5 window) is 1 m deeper
+  CHECK(f.u_right[1] < 0);
+  CHECK(f.depth[2] < 0);      // a pixel without depth in the window
+  CHECK(f.depth[3] == 2.0f);  // 4 % < 5 %
+  CHECK(f.depth[4] < 0);      // the far side of the same step
+  f.FinishFeatures(cam, 0.03);
+  CHECK(f.depth[3] < 0);  // 4 % > 3 %
+}

@@ -3,7 +3,9 @@
 // depth is all zero), and mgd-nd runs end to end.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
+#include <set>
 #include <fstream>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
@@ -14,6 +16,8 @@
 #include "optim/optim.h"
 #include "pipeline/method_config.h"
 #include "pipeline/pipeline.h"
+#include "features/lines.h"
+#include "structure/line_frame_matching.h"
 #include "structure/structure_tracker.h"
 #include "synth/synth.h"
 #include "test_support.h"
@@ -152,6 +156,24 @@ TEST_CASE("structure: frame lines get 3-D samples, landmarks are created at a ke
     REQUIRE(st.BuildPoseStructure(w, map, &li, &pi).lines.size() > 0);
     w.structure.line_weight[static_cast<size_t>(li[0])] = 0.25;
     CHECK(st.BuildPoseStructure(w, map, &li, &pi).lines[0].weight == 0.25);
+    // Weight 0 (a dynamic method's "out"): no residual, no association, no landmark.
+    const size_t out = static_cast<size_t>(li[0]);
+    const int64_t was = w.structure.map_line_ids[out];
+    const size_t n_res = st.BuildPoseStructure(w, map, &li, &pi).lines.size();
+    w.structure.line_weight[out] = 0.0;
+    CHECK(st.BuildPoseStructure(w, map, &li, &pi).lines.size() == n_res - 1);
+    CHECK(std::find(li.begin(), li.end(), static_cast<int>(out)) == li.end());
+    st.Associate(w, map);
+    CHECK(w.structure.map_line_ids[out] == -1);
+    w.structure.map_line_ids[out] = was;  // even when associated before, a keyframe does not observe it
+    auto kf1 = std::make_unique<KeyFrame>();
+    kf1->frame = w;
+    KeyFrame* k1 = map.AddKeyFrame(std::move(kf1));
+    const size_t lines_before = map.GoodLineCount();
+    st.CreateLandmarks(w, *k1, map);
+    CHECK(map.good_line(was)->observations.count(k1->id) == 0);
+    for (const auto& [id, L] : map.lines) CHECK((L->first_kf != k1->id || L->observations.begin()->second != static_cast<int>(out)));
+    CHECK(map.GoodLineCount() >= lines_before);
   }
   const optim::PoseStructure ps = st.BuildPoseStructure(f1, map, &li, &pi);
   const optim::PoseOnlyResult r = optim::OptimizePose(seq.camera.Pinhole(), f1.T_cw, {}, &ps, optim::PoseOnlyOptions{}, nullptr, "t");
@@ -209,4 +231,60 @@ TEST_CASE("structure: mgd-nd survives a frame whose depth is all zero and reruns
   const test::CommandResult d2 = test::RunDynref("diff " + dirs[0] + " " + dirs[1]);
   INFO(d2.output);
   CHECK(d2.exit_code == 0);
+}
+
+TEST_CASE("structure: frame-to-frame line matching (shared map line, LBD + angle + distance gates, direction)") {
+  const std::string seq_dir = Synth("pair", "static_xyz", 3);
+  const Sequence seq = OpenSequence(seq_dir, SequenceOptions{});
+  const MethodConfig cfg = LoadMethodConfig(test::SourcePath("configs/mgd_nd.yaml"));
+  trace::TraceWriter trace("", trace::Level::kOff, trace::RunHeader{});
+  const structure::StructureTracker st(seq.camera, cfg.backbone.structure, trace);
+  const Frame f0 = LoadFrame(seq, 0, st), f1 = LoadFrame(seq, 1, st);
+  const structure::LineMatchGates gates;
+  // A frame against itself: every line with a line finds itself, distance 0, same direction.
+  const auto self = structure::MatchLinesToPrevious(f0.structure, f0.structure, gates);
+  for (size_t i = 0; i < self.size(); ++i) {
+    if (f0.structure.lines[i].l.head<2>().squaredNorm() == 0) continue;
+    CHECK(self[i].prev_index == static_cast<int>(i));
+    CHECK(self[i].hamming == 0);
+    CHECK_FALSE(self[i].reversed);
+    CHECK(self[i].source == 1);
+  }
+  // The next frame (camera moved a few mm): most lines match by descriptor, each previous line once.
+  const auto next = structure::MatchLinesToPrevious(f1.structure, f0.structure, gates);
+  std::set<int> used;
+  int matched = 0;
+  for (const auto& c : next) {
+    if (c.prev_index < 0) continue;
+    ++matched;
+    CHECK(used.insert(c.prev_index).second);
+    CHECK(c.hamming <= gates.max_bits);
+  }
+  CHECK(matched > static_cast<int>(f1.structure.lines.size()) / 2);
+  // A shared map line wins over every gate; a reversed copy is detected.
+  FrameStructure a, b;
+  FrameLine L;
+  L.s = {100, 100}, L.e = {200, 100}, L.l = features::LineThrough(L.s, L.e), L.angle = 0;
+  FrameLine far = L;
+  far.s = {100, 300}, far.e = {200, 300}, far.l = features::LineThrough(far.s, far.e);
+  FrameLine rev = L;
+  rev.s = {203, 102}, rev.e = {103, 102}, rev.l = features::LineThrough(rev.s, rev.e);
+  a.lines = {far, rev};
+  b.lines = {L};
+  a.line_descriptors = cv::Mat(2, 32, CV_8U, cv::Scalar(0));
+  b.line_descriptors = cv::Mat(1, 32, CV_8U, cv::Scalar(0));
+  a.map_line_ids = {-1, -1};
+  b.map_line_ids = {-1};
+  auto c = structure::MatchLinesToPrevious(a, b, gates);
+  CHECK(c[0].prev_index == -1);  // 200 px away
+  CHECK(c[1].prev_index == 0);
+  CHECK(c[1].reversed);
+  CHECK(c[1].source == 1);
+  a.line_descriptors.row(1).setTo(0xFF);  // 256 bits: beyond the gate
+  CHECK(structure::MatchLinesToPrevious(a, b, gates)[1].prev_index == -1);
+  a.map_line_ids = {7, -1};  // the far line observes the previous line's map line
+  b.map_line_ids = {7};
+  c = structure::MatchLinesToPrevious(a, b, gates);
+  CHECK(c[0].prev_index == 0);
+  CHECK(c[0].source == 0);
 }

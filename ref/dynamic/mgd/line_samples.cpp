@@ -183,6 +183,12 @@ int64_t DecideLines(StageContext& ctx, const MgdOptions& o, MgdState& s, const L
                              nodes.p_smooth[i][k], p);
     }
     const double w = LineWeight(p_max, o);
+    if (full) {  // the line's P: the largest of its samples (what the decision and the overlay use)
+      double before = 0;
+      for (size_t k = 0; k < 3; ++k) before = std::max(before, nodes.p_smooth[i][k]);
+      tr.ProbabilityUpdate("mgd.line", trace::EntityKind::kLineSample, id,
+                           {{"map_line", double(ml)}, {"weight", w}}, before, p_max);
+    }
     ctx.frame.SetLineWeight(static_cast<int>(i), w);
     if (ml >= 0 && ctx.map.good_line(ml) != nullptr) ctx.frame.SetLineDynamicProbability(ml, p_max, stage);
     if (w <= 0) ++out;
