@@ -282,43 +282,27 @@ int RunBlurTable(const BlurTableArgs& a) {
     md << PaperNotes("003-table1.csv", p1.notes) << PaperNotes("003-table2.csv", p2.notes);
   else
     md << PaperNotes("003-table3.csv", p3.notes) << PaperNotes("003-table4.csv", p4.notes);
-  {  // Plot beside the report: ATE per sequence and variant (mean +- S.D. over seeds), paper lighter.
-    std::vector<render::BarSeries> series;
+  {  // Plot beside the report and the per-seed table: ATE per sequence and variant, paper lighter.
+    std::vector<SeedSeries> ours;
+    std::vector<PaperSeries> paper;
     for (size_t v = 0; v < variants.size(); ++v) {
-      render::BarSeries s{variants[v].label, {}, {}, render::SeriesColour(v + 4)};
-      for (const std::string& preset : a.sequences) {
-        const std::vector<double>& r = grid[preset][v].rmse;
-        s.value.push_back(Mean(r));
-        s.error.push_back(r.size() > 1 ? ComputeErrorStats(r).std : std::nan(""));
-      }
-      series.push_back(s);
+      SeedSeries s{variants[v].label, {}};
+      for (const std::string& preset : a.sequences) s.per_group.push_back(grid[preset][v].rmse);
+      ours.push_back(s);
     }
     for (size_t v = 0; v < variants.size(); ++v) {
       if (variants[v].paper.empty()) continue;
-      render::BarSeries s{"paper " + variants[v].paper, {}, {}, Lighter(render::SeriesColour(v + 4))};
+      PaperSeries s{"paper " + variants[v].paper, {}, v};
       for (const std::string& preset : a.sequences) {
         const auto [table, row] = PaperRow(preset);
         const PaperTable& pt = a.table == "table3" ? p3 : (table == "2" ? p2 : p1);
-        s.value.push_back(pt.Cell(row, variants[v].paper + " RMSE"));
+        s.per_group.push_back(pt.Cell(row, variants[v].paper + " RMSE"));
       }
-      series.push_back(s);
+      paper.push_back(s);
     }
-    render::BarChartOptions bo;
-    bo.width = 1400;
-    bo.title = "ATE RMSE (mean +- S.D. over seeds " + SeedListText(a.seeds) + "), paper values lighter";
-    bo.y_label = "ATE RMSE [m]";
-    bo.log_y = true;
-    const std::string png = (report_dir / (fs::path(a.out).stem().string() + ".png")).string();
-    PlotBars(a.sequences, series, bo, png);
-    md << "\n## Plot\n\n![ATE per sequence](" << fs::path(png).filename().string() << ")\n";
+    md << AteBarsSection(a.sequences, ours, paper, 4, SeedListText(a.seeds), a.out)
+       << PerSeedAteSection(a.sequences, ours, SeedListText(a.seeds));
   }
-  md << "\n## Per seed: ATE RMSE (m)\n\n| Sequence | Variant | seeds " << SeedListText(a.seeds) << " |\n|---|---|---|\n";
-  for (const std::string& preset : a.sequences)
-    for (size_t v = 0; v < variants.size(); ++v) {
-      md << "| " << preset << " | " << variants[v].label << " |";
-      for (double r : grid[preset][v].rmse) md << " " << Num(r);
-      md << " |\n";
-    }
   AtomicWriteFile(a.out, md.str());
   std::cout << "reproduce: wrote " << a.out << "\n";
   return kExitOk;

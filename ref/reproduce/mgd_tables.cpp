@@ -261,40 +261,22 @@ int RunMgdTable(const MgdTableArgs& a) {
     md << PaperNotes("000-table4.csv", p4.notes) << PaperNotes("000-table5.csv", p5.notes)
        << PaperNotes("000-table6.csv", p6.notes);
   }
-  {  // ATE per sequence and variant (mean +- S.D. over seeds), paper lighter.
-    std::vector<render::BarSeries> series;
+  {  // ATE per sequence and variant (mean +- S.D. over seeds), paper lighter; the per-seed table.
+    std::vector<SeedSeries> ours;
+    std::vector<PaperSeries> paper;
     for (size_t v = 0; v < main.size(); ++v) {
-      render::BarSeries s{main[v].label, {}, {}, render::SeriesColour(v)};
-      for (const std::string& preset : a.sequences) {
-        const std::vector<double>& r = grid[preset][v].ate;
-        s.value.push_back(Mean(r));
-        s.error.push_back(r.size() > 1 ? ComputeErrorStats(r).std : std::nan(""));
-      }
-      series.push_back(s);
-    }
-    for (size_t v = 0; v < main.size(); ++v) {
+      SeedSeries s{main[v].label, {}};
+      for (const std::string& preset : a.sequences) s.per_group.push_back(grid[preset][v].ate);
+      ours.push_back(s);
       const std::string col = a.table == "table2" ? main[v].paper2 : main[v].paper4;
       if (col.empty()) continue;
-      render::BarSeries s{"paper " + col, {}, {}, Lighter(render::SeriesColour(v))};
-      for (const std::string& preset : a.sequences) s.value.push_back((a.table == "table2" ? p2 : p4).Cell(PaperRow(preset), col));
-      series.push_back(s);
+      PaperSeries p{"paper " + col, {}, v};
+      for (const std::string& preset : a.sequences) p.per_group.push_back((a.table == "table2" ? p2 : p4).Cell(PaperRow(preset), col));
+      paper.push_back(p);
     }
-    render::BarChartOptions bo;
-    bo.width = 1400;
-    bo.title = "ATE RMSE (mean +- S.D. over seeds " + SeedListText(a.seeds) + "), paper values lighter";
-    bo.y_label = "ATE RMSE [m]";
-    bo.log_y = true;
-    const std::string png = (report_dir / (fs::path(a.out).stem().string() + ".png")).string();
-    PlotBars(a.sequences, series, bo, png);
-    md << "\n## Plot\n\n![ATE per sequence](" << fs::path(png).filename().string() << ")\n";
+    md << AteBarsSection(a.sequences, ours, paper, 0, SeedListText(a.seeds), a.out)
+       << PerSeedAteSection(a.sequences, ours, SeedListText(a.seeds));
   }
-  md << "\n## Per seed: ATE RMSE (m)\n\n| Sequence | Variant | seeds " << SeedListText(a.seeds) << " |\n|---|---|---|\n";
-  for (const std::string& preset : a.sequences)
-    for (size_t v = 0; v < main.size(); ++v) {
-      md << "| " << preset << " | " << main[v].label << " |";
-      for (double r : grid[preset][v].ate) md << " " << Num(r);
-      md << " |\n";
-    }
   AtomicWriteFile(a.out, md.str());
   std::cout << "reproduce: wrote " << a.out << "\n";
   return kExitOk;

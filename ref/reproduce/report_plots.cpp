@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <filesystem>
 
 #include "core/error.h"
 #include "eval/trajectory_eval.h"
 #include "io/trajectory.h"
+#include "reproduce/report_format.h"
 
 namespace dynref::reproduce {
 namespace {
@@ -92,6 +94,47 @@ void PlotAteOverTime(const std::string& seq_dir, const LabelledRuns& runs, const
 void PlotBars(const std::vector<std::string>& groups, const std::vector<render::BarSeries>& series,
               const render::BarChartOptions& options, const std::string& png) {
   render::RenderBarChart(groups, series, options).WritePng(png);
+}
+
+}  // namespace dynref::reproduce
+
+namespace dynref::reproduce {
+
+std::string AteBarsSection(const std::vector<std::string>& groups, const std::vector<SeedSeries>& ours,
+                           const std::vector<PaperSeries>& paper, size_t colour_offset, const std::string& seeds_text,
+                           const std::string& report) {
+  std::vector<render::BarSeries> series;
+  for (size_t v = 0; v < ours.size(); ++v) {
+    render::BarSeries s{ours[v].label, {}, {}, render::SeriesColour(v + colour_offset)};
+    for (const std::vector<double>& r : ours[v].per_group) {
+      s.value.push_back(Mean(r));
+      s.error.push_back(r.size() > 1 ? ComputeErrorStats(r).std : std::nan(""));
+    }
+    series.push_back(s);
+  }
+  for (const PaperSeries& p : paper)
+    series.push_back({p.label, p.per_group, {}, Lighter(render::SeriesColour(p.of + colour_offset))});
+  render::BarChartOptions bo;
+  bo.width = 1400;
+  bo.title = "ATE RMSE (mean +- S.D. over seeds " + seeds_text + "), paper values lighter";
+  bo.y_label = "ATE RMSE [m]";
+  bo.log_y = true;
+  const std::filesystem::path out(report);
+  const std::string png = (out.parent_path() / (out.stem().string() + ".png")).string();
+  PlotBars(groups, series, bo, png);
+  return "\n## Plot\n\n![ATE per sequence](" + std::filesystem::path(png).filename().string() + ")\n";
+}
+
+std::string PerSeedAteSection(const std::vector<std::string>& groups, const std::vector<SeedSeries>& ours,
+                              const std::string& seeds_text) {
+  std::string md = "\n## Per seed: ATE RMSE (m)\n\n| Sequence | Variant | seeds " + seeds_text + " |\n|---|---|---|\n";
+  for (size_t g = 0; g < groups.size(); ++g)
+    for (const SeedSeries& s : ours) {
+      md += "| " + groups[g] + " | " + s.label + " |";
+      for (double r : s.per_group[g]) md += " " + Num(r);
+      md += " |\n";
+    }
+  return md;
 }
 
 }  // namespace dynref::reproduce

@@ -25,4 +25,25 @@ void PlotBars(const std::vector<std::string>& groups, const std::vector<render::
 // The lighter twin of a series colour (the paper's bars beside ours).
 render::Rgb Lighter(render::Rgb c);
 
+// One of our variants over the groups (sequences): per group, its ATE RMSE of each seed.
+struct SeedSeries {
+  std::string label;
+  std::vector<std::vector<double>> per_group;
+};
+// A paper column over the same groups, drawn in the lighter colour of ours[of].
+struct PaperSeries {
+  std::string label;
+  std::vector<double> per_group;
+  size_t of = 0;
+};
+// The ATE bar chart of a report (ours: mean +- S.D. over seeds in SeriesColour(i + colour_offset);
+// the paper's lighter), written beside `report` as <stem>.png; returns the Markdown "## Plot"
+// section that shows it.
+std::string AteBarsSection(const std::vector<std::string>& groups, const std::vector<SeedSeries>& ours,
+                           const std::vector<PaperSeries>& paper, size_t colour_offset, const std::string& seeds_text,
+                           const std::string& report);
+// "## Per seed: ATE RMSE (m)": one row per group and variant, the seeds' values in order.
+std::string PerSeedAteSection(const std::vector<std::string>& groups, const std::vector<SeedSeries>& ours,
+                              const std::string& seeds_text);
+
 }  // namespace dynref::reproduce
