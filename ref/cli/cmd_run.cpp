@@ -31,6 +31,9 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
                   "e.g. sgdo.depth.eta=0.05, or a backbone key, e.g. backbone.min_init_points=100; recorded in "
                   "run.json with source 'dynref run --set'");
   app->add_flag("--overlays", opts->overlays, "render RUN/overlays/overlay_<frame>.png after the run");
+  app->add_option("--threads", opts->threads,
+                  "threads for the work that stays bit-identical (ORB extraction by pyramid level); results and "
+                  "traces are the same for every N; with N > 1 run.json timings are wall-clock ms (default 1)");
   app->add_flag("!--no-progress", opts->progress, "no progress line on stderr");
   out.push_back({app, [opts, frames, frames_opt, sets] {
                    // --frames here; everything else in RunOptions::Check before the run opens anything.

@@ -12,4 +12,12 @@ inline double ThreadCpuMs() {
   return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
 }
 
+// Wall-clock milliseconds (CLOCK_MONOTONIC): module timings of a run with --threads > 1, where
+// the thread's CPU clock would miss the work of its helper threads.
+inline double WallMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
+
 }  // namespace dynref

@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "features/orb_pattern.h"
 
 namespace dynref::features {
@@ -258,7 +259,8 @@ std::vector<cv::KeyPoint> OrbExtractor::DistributeOctTree(
 void OrbExtractor::ComputeKeyPointsOctTree(std::vector<std::vector<cv::KeyPoint>>* all_keys) {
   all_keys->assign(options_.n_levels, {});
   const float W = 30;
-  for (int level = 0; level < options_.n_levels; ++level) {
+  // One task per level: each writes only (*all_keys)[level] (same bytes for any thread count).
+  ParallelFor(options_.n_levels, threads_, [&](int level) {
     const cv::Mat& img = pyramid_[level];
     const int min_border_x = kEdgeThreshold - 3;
     const int min_border_y = min_border_x;
@@ -272,7 +274,7 @@ void OrbExtractor::ComputeKeyPointsOctTree(std::vector<std::vector<cv::KeyPoint>
     const int n_rows = std::max(1, static_cast<int>(height / W));
     const int w_cell = static_cast<int>(std::ceil(width / n_cols));
     const int h_cell = static_cast<int>(std::ceil(height / n_rows));
-    if (width <= 0 || height <= 0) continue;
+    if (width <= 0 || height <= 0) return;
     for (int i = 0; i < n_rows; ++i) {
       const float ini_y = static_cast<float>(min_border_y + i * h_cell);
       float max_y = ini_y + h_cell + 6;
@@ -305,9 +307,8 @@ void OrbExtractor::ComputeKeyPointsOctTree(std::vector<std::vector<cv::KeyPoint>
       kp.octave = level;
       kp.size = scaled_patch;
     }
-  }
-  for (int level = 0; level < options_.n_levels; ++level)
-    for (cv::KeyPoint& kp : (*all_keys)[level]) kp.angle = IcAngle(pyramid_[level], kp.pt, umax_);
+    for (cv::KeyPoint& kp : keys) kp.angle = IcAngle(img, kp.pt, umax_);
+  });
 }
 
 void OrbExtractor::Extract(const cv::Mat& grey, std::vector<cv::KeyPoint>* keys,
@@ -321,21 +322,24 @@ void OrbExtractor::Extract(const cv::Mat& grey, std::vector<cv::KeyPoint>* keys,
   keys->clear();
   keys->reserve(n);
   descriptors->create(n, 32, CV_8U);
-  int offset = 0;
-  for (int level = 0; level < options_.n_levels; ++level) {
+  std::vector<int> offset(static_cast<size_t>(options_.n_levels) + 1, 0);
+  for (int level = 0; level < options_.n_levels; ++level)
+    offset[level + 1] = offset[level] + static_cast<int>(all_keys[level].size());
+  // One task per level: its descriptor rows [offset[level], offset[level + 1]) and its keys.
+  ParallelFor(options_.n_levels, threads_, [&](int level) {
     std::vector<cv::KeyPoint>& level_keys = all_keys[level];
-    if (level_keys.empty()) continue;
+    if (level_keys.empty()) return;
     cv::Mat working = pyramid_[level].clone();
     cv::GaussianBlur(working, working, cv::Size(7, 7), 2, 2, cv::BORDER_REFLECT_101);
     for (size_t i = 0; i < level_keys.size(); ++i)
-      OrbDescriptor(level_keys[i], working, descriptors->ptr<uchar>(offset + static_cast<int>(i)));
-    offset += static_cast<int>(level_keys.size());
+      OrbDescriptor(level_keys[i], working, descriptors->ptr<uchar>(offset[level] + static_cast<int>(i)));
     if (level != 0) {
       const float scale = scale_[level];
       for (cv::KeyPoint& kp : level_keys) kp.pt *= scale;
     }
-    keys->insert(keys->end(), level_keys.begin(), level_keys.end());
-  }
+  });
+  for (int level = 0; level < options_.n_levels; ++level)
+    keys->insert(keys->end(), all_keys[level].begin(), all_keys[level].end());
 }
 
 int DescriptorDistance(const uint8_t* a, const uint8_t* b) {

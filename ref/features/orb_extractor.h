@@ -30,6 +30,10 @@ class OrbExtractor {
   // N x 32 CV_8U descriptors, ordered by level then by quadtree node as ORB-SLAM2.
   void Extract(const cv::Mat& grey, std::vector<cv::KeyPoint>* keys, cv::Mat* descriptors);
 
+  // Pyramid levels on up to n threads (core/parallel.h); keypoints and descriptors are the same
+  // bytes for every n (issue 18).
+  void set_threads(int n) { threads_ = n; }
+
   const OrbOptions& options() const { return options_; }
   const std::vector<float>& scale_factors() const { return scale_; }
   const std::vector<int>& features_per_level() const { return features_per_level_; }
@@ -48,6 +52,7 @@ class OrbExtractor {
   std::vector<int> umax_;
   std::vector<cv::Mat> pyramid_;        // level images (views into bordered buffers)
   std::vector<cv::Mat> pyramid_border_; // bordered buffers (EDGE_THRESHOLD on each side)
+  int threads_ = 1;
 };
 
 // Hamming distance of two 32-byte descriptors (ORBmatcher::DescriptorDistance).

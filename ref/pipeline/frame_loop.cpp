@@ -16,8 +16,6 @@
 namespace dynref {
 namespace {
 
-// Module timings use the thread's CPU clock (core/cpu_clock.h).
-const auto NowMs = ThreadCpuMs;
 
 }  // namespace
 
@@ -33,7 +31,10 @@ FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session
       tracker_(camera_, map_, inputs.config->backbone.tracker, trace),
       mapper_(map_, camera_, inputs.config->backbone.mapper, trace),
       mapping_clock_(inputs.config->backbone.mapping_clock),
-      clock_options_max_queue_(inputs.config->backbone.mapping_clock.max_queue) {
+      clock_options_max_queue_(inputs.config->backbone.mapping_clock.max_queue),
+      // Module timings: the thread's CPU clock (core/cpu_clock.h), wall clock with helper threads.
+      now_(options.threads > 1 ? WallMs : ThreadCpuMs) {
+  extractor_.set_threads(options.threads);
   map_.AddObserver(&session_);  // landmark events reach the method's components
   if (inputs.config->backbone.structure.enabled()) {
     structure_ = std::make_unique<structure::StructureTracker>(camera_, inputs.config->backbone.structure, trace);
@@ -47,7 +48,7 @@ FrameLoop::~FrameLoop() { map_.RemoveObserver(&session_); }
 bool FrameLoop::Process(size_t k) {
   const FrameEntry& e = inputs_.frames[k];
   trace_.BeginFrame(e.index, e.rgb_stamp);
-  const double t0 = NowMs();
+  const double t0 = now_();
   Frame f;
   f.index = e.index;
   f.stamp = e.rgb_stamp;
@@ -56,7 +57,7 @@ bool FrameLoop::Process(size_t k) {
   FrameDetections dets;
   try {
     inputs_.LoadFrame(e, options_, f, dets);
-    const double t_loaded = NowMs();
+    const double t_loaded = now_();
     // f.rgb is BGR (cv::imread). ORB-SLAM2's rgbd_tum with Camera.RGB: 1 (TUM1-3.yaml) converts
     // those BGR images with CV_RGB2GRAY, so blue gets red's weight; backbone.camera_rgb_flag
     // reproduces that grey image (default), false gives the true luminance.
@@ -76,7 +77,7 @@ bool FrameLoop::Process(size_t k) {
     f.FinishFeatures(camera_, inputs_.config->backbone.depth_edge_rel);
     double lines_ms = 0, planes_ms = 0;
     if (structure_ != nullptr) structure_->Extract(f, &lines_ms, &planes_ms);
-    const double t1 = NowMs();
+    const double t1 = now_();
     trace_.FrameCount("extract", "keypoints", static_cast<int64_t>(f.N()));
     session_.Run(Hook::kAfterExtraction, ctx);
     session_.Run(Hook::kBeforeInitialPose, ctx);
@@ -113,7 +114,7 @@ bool FrameLoop::Process(size_t k) {
           new_kf = tracker_.CreateNewKeyFrame(f);
       }
     }
-    const double t2 = NowMs();
+    const double t2 = now_();
     if (ok) trace_.FramePose("final", f.T_cw.inverse());
     if (trace_.full_enabled()) {
       for (size_t i = 0; i < f.N(); ++i) {
@@ -147,12 +148,12 @@ bool FrameLoop::Process(size_t k) {
       session_.OnMapUpdate(mctx);
       ctx.new_keyframe_edit = nullptr;
     }
-    const double t3 = NowMs();
+    const double t3 = now_();
     trace_.FrameCount("features", "excluded", f.ExcludedCount());
     trace_.FrameCount("track", "ok", ok ? 1 : 0);
     trace_.FrameCount("track", "keyframe", new_kf != nullptr ? 1 : 0);
     tracker_.FinishFrame(f, ok);
-    const double t4 = NowMs();
+    const double t4 = now_();
     timings_.load.push_back(t_loaded - t0);
     timings_.extraction.push_back(t1 - t_loaded);
     timings_.tracking.push_back((t2 - t1) + (t4 - t3));

@@ -63,6 +63,7 @@ class FrameLoop {
   std::unique_ptr<structure::StructureTracker> structure_;  // lines / planes (issue 13), else nullptr
   mapping::MappingClock mapping_clock_;  // when local mapping counts as busy (issue 18)
   int clock_options_max_queue_;
+  double (*now_)();  // module timing clock
   RunResult result_;
   std::vector<std::pair<int, std::string>> lost_reasons_;  // frame position -> reason
   ModuleTimings timings_;

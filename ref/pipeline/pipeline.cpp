@@ -65,6 +65,7 @@ void RunOptions::Check() const {
     d.sequence_root = sequence;
     CheckDetectionSpec(detector, d, "--detector");
   }
+  if (threads < 1 || threads > 64) throw InputError("--threads", "must be in 1..64, got " + std::to_string(threads));
   if (frames.first < 0 || (!frames.open_ended() && frames.last < frames.first))
     throw InputError("dynref run", "--frames: need 0 <= A <= B");
   if (!detections_dir.empty() && !detector.empty())

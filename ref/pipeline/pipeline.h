@@ -31,6 +31,10 @@ struct RunOptions {
   FrameRange frames;             // --frames: inclusive sequence indices (default: all)
   bool progress = true;          // progress line when stderr is a terminal
   bool overlays = false;         // render RUN/overlays/ after the run (ref/render; needs a trace)
+  // --threads: work that stays bit-identical runs on up to this many threads (today: ORB
+  // extraction by pyramid level, issue 18). Results and traces do not depend on it; with > 1
+  // the module timings in run.json are wall-clock ms (a thread's CPU clock misses its helpers).
+  int threads = 1;
   // In-memory config (e.g. a sweep that changed one parameter); when set, config_path and the
   // method's default config are not read.
   std::shared_ptr<const MethodConfig> config;

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "core/error.h"
 #include "core/se3.h"
 #include "eval/trajectory_eval.h"
 #include "io/camera.h"
@@ -129,6 +130,33 @@ TEST_CASE("run: two runs give byte-identical trajectory and trace dump") {
   REQUIRE(da.exit_code == 0);
   CHECK(da.output.size() > 1000);
   CHECK(da.output == db.output);
+}
+
+TEST_CASE("run: --threads 1, 2 and 4 give the same trajectory and trace dump (issue 18)") {
+  std::string dump1, traj1;
+  for (int threads : {1, 2, 4}) {
+    const std::string out = test::ScratchDir("run_threads_" + std::to_string(threads));
+    RunOptions o = Options(out, "full");
+    o.frames.last = 4;
+    o.threads = threads;
+    REQUIRE(RunSequence(o).exit_code == 0);
+    const auto d = test::RunDynref("trace dump " + out + "/trace.dtr");
+    REQUIRE(d.exit_code == 0);
+    const std::string traj = test::ReadFileBytes(out + "/trajectory.txt");
+    if (threads == 1) {
+      dump1 = d.output, traj1 = traj;
+      REQUIRE(dump1.size() > 1000);
+      CHECK(ReadJson(out + "/run.json")["timing_clock"].get<std::string>().rfind("thread CPU time", 0) == 0);
+      continue;
+    }
+    CHECK(d.output == dump1);
+    CHECK(traj == traj1);
+    CHECK(ReadJson(out + "/run.json")["timing_clock"].get<std::string>().rfind("wall-clock time", 0) == 0);
+    CHECK(ReadJson(out + "/run.json")["threads"] == threads);
+  }
+  RunOptions bad = Options(test::ScratchDir("run_threads_bad"));
+  bad.threads = 0;
+  CHECK_THROWS_AS(bad.Check(), InputError);
 }
 
 TEST_CASE("run: fewer than 2 frames ends cleanly with exit 2 and says why") {
