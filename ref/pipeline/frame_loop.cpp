@@ -1,7 +1,10 @@
 // The frame loop; see frame_loop.h and method/hooks.h for the order of steps and hooks.
 #include "pipeline/frame_loop.h"
 
+#include <algorithm>
+
 #include "core/cpu_clock.h"
+#include "core/parallel.h"
 
 #include <time.h>
 
@@ -34,7 +37,9 @@ FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session
       clock_options_max_queue_(inputs.config->backbone.mapping_clock.max_queue),
       // Module timings: the thread's CPU clock (core/cpu_clock.h), wall clock with helper threads.
       now_(options.threads > 1 ? WallMs : ThreadCpuMs) {
-  extractor_.set_threads(options.threads);
+  // With lines / planes, one of the threads extracts them beside ORB (Process).
+  extractor_.set_threads(inputs.config->backbone.structure.enabled() ? std::max(1, options.threads - 1)
+                                                                     : options.threads);
   map_.AddObserver(&session_);  // landmark events reach the method's components
   if (inputs.config->backbone.structure.enabled()) {
     structure_ = std::make_unique<structure::StructureTracker>(camera_, inputs.config->backbone.structure, trace);
@@ -72,11 +77,19 @@ bool FrameLoop::Process(size_t k) {
     session_.Run(Hook::kBeforeExtraction, ctx);
     if (f.grey.type() != CV_8U || f.grey.size() != grey_size)
       throw std::logic_error("a before_extraction stage changed the grey image's size or type");
-    extractor_.Extract(f.grey, &f.keys, &f.descriptors);
-    f.pyramid = pyramid_;
-    f.FinishFeatures(camera_, inputs_.config->backbone.depth_edge_rel);
+    // Task 0: ORB keypoints and the per-key geometry; task 1: lines and planes. They read the
+    // same images and write disjoint parts of the frame, and only task 1 writes trace records,
+    // so with --threads > 1 they run side by side with the same bytes as one after the other.
     double lines_ms = 0, planes_ms = 0;
-    if (structure_ != nullptr) structure_->Extract(f, &lines_ms, &planes_ms);
+    ParallelFor(structure_ != nullptr ? 2 : 1, options_.threads, [&](int task) {
+      if (task == 0) {
+        extractor_.Extract(f.grey, &f.keys, &f.descriptors);
+        f.pyramid = pyramid_;
+        f.FinishFeatures(camera_, inputs_.config->backbone.depth_edge_rel);
+      } else {
+        structure_->Extract(f, &lines_ms, &planes_ms);
+      }
+    });
     const double t1 = now_();
     trace_.FrameCount("extract", "keypoints", static_cast<int64_t>(f.N()));
     session_.Run(Hook::kAfterExtraction, ctx);

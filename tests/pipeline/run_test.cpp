@@ -133,10 +133,13 @@ TEST_CASE("run: two runs give byte-identical trajectory and trace dump") {
 }
 
 TEST_CASE("run: --threads 1, 2 and 4 give the same trajectory and trace dump (issue 18)") {
+  // orb: ORB levels in parallel; mgd-nd: lines and planes beside ORB as well.
+  const std::string method = GENERATE(std::string("orb"), std::string("mgd-nd"));
   std::string dump1, traj1;
   for (int threads : {1, 2, 4}) {
-    const std::string out = test::ScratchDir("run_threads_" + std::to_string(threads));
+    const std::string out = test::ScratchDir("run_threads_" + method + std::to_string(threads));
     RunOptions o = Options(out, "full");
+    o.method = method;
     o.frames.last = 4;
     o.threads = threads;
     REQUIRE(RunSequence(o).exit_code == 0);
