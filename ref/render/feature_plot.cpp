@@ -27,15 +27,18 @@ Canvas RenderFeaturePlot(const trace::FeatureHistory& h) {
   const Rgb ink{0, 0, 0}, grid{225, 225, 225};
   // Points: updates of one frame are spread over [frame, frame + 0.8) in processing order.
   std::map<int64_t, int> per_frame;
+  // The backbone's structure records (stage "structure") are line / plane geometry with p = 0,
+  // not probabilities: not drawn.
+  const auto is_probability = [](const trace::FlatRecord& r) { return r.type == "prob" && r.stage != "structure"; };
   for (const auto& r : h.rows)
-    if (r.type == "prob") ++per_frame[r.frame];
+    if (is_probability(r)) ++per_frame[r.frame];
   std::map<int64_t, int> seen;
   std::vector<Point> pts;
   std::map<std::string, size_t> stages;
   double x_min = 0, x_max = 1, y_min = 0, y_max = 1;
   bool any = false;
   for (const auto& r : h.rows) {
-    if (r.type != "prob") continue;
+    if (!is_probability(r)) continue;
     double after = 0, before = 0;
     for (const auto& f : r.fields) {
       if (f.name == "after") after = f.number;
