@@ -11,6 +11,7 @@
 #include "dynamic/mgd/stages.h"
 
 namespace dynref::mgd {
+
 bool InKeptBox(const FrameDetections* det, const MgdOptions& o, float u, float v) {
   if (det == nullptr) return false;
   for (const DetectedInstance& inst : det->instances) {

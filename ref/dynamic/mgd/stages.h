@@ -1,5 +1,5 @@
-// MGD-SLAM (seed 000) stages, points only (line samples join when the backbone has lines,
-// issue 13). See register.h for hooks, README.md for the equations and spec readings.
+// MGD-SLAM (seed 000) stages: points and, when the config turns the backbone's lines on, line
+// samples (line_samples.h). See register.h for hooks, README.md for the equations and readings.
 #pragma once
 #include <memory>
 #include <string>
