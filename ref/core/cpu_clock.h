@@ -6,18 +6,16 @@
 
 namespace dynref {
 
-inline double ThreadCpuMs() {
+inline double ClockMs(clockid_t clock) {
   timespec ts{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  clock_gettime(clock, &ts);
   return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
 }
 
+inline double ThreadCpuMs() { return ClockMs(CLOCK_THREAD_CPUTIME_ID); }
+
 // Wall-clock milliseconds (CLOCK_MONOTONIC): module timings of a run with --threads > 1, where
 // the thread's CPU clock would miss the work of its helper threads.
-inline double WallMs() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
-}
+inline double WallMs() { return ClockMs(CLOCK_MONOTONIC); }
 
 }  // namespace dynref

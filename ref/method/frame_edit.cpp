@@ -19,13 +19,24 @@ void FrameEdit::SetWeight(int i, double w) {
   frame_.SetWeight(i, w);
 }
 
+namespace {
+
+// A landmark's dynamic state (map point or map line); `what` names the caller in errors.
+void SetDynamicState(LandmarkDynamicState* d, const char* what, const std::string& landmark, double p, int frame,
+                     const std::string& stage) {
+  if (d == nullptr) throw std::logic_error(std::string(what) + ": no " + landmark);
+  if (!(p >= 0.0 && p <= 1.0)) throw std::logic_error(std::string(what) + ": p outside [0, 1]");
+  d->p_dynamic = p;
+  d->frame = frame;
+  d->stage = stage;
+}
+
+}  // namespace
+
 void FrameEdit::SetPointDynamicProbability(int64_t mp_id, double p, const std::string& stage) {
   MapPoint* mp = map_.mp(mp_id);
-  if (mp == nullptr) throw std::logic_error("SetPointDynamicProbability: no map point " + std::to_string(mp_id));
-  if (!(p >= 0.0 && p <= 1.0)) throw std::logic_error("SetPointDynamicProbability: p outside [0, 1]");
-  mp->dynamic.p_dynamic = p;
-  mp->dynamic.frame = frame_.index;
-  mp->dynamic.stage = stage;
+  SetDynamicState(mp ? &mp->dynamic : nullptr, "SetPointDynamicProbability", "map point " + std::to_string(mp_id), p,
+                  frame_.index, stage);
 }
 
 void FrameEdit::SetLineWeight(int i, double w) {
@@ -39,11 +50,8 @@ void FrameEdit::SetLineWeight(int i, double w) {
 
 void FrameEdit::SetLineDynamicProbability(int64_t ml_id, double p, const std::string& stage) {
   MapLine* l = map_.good_line(ml_id);
-  if (l == nullptr) throw std::logic_error("SetLineDynamicProbability: no map line " + std::to_string(ml_id));
-  if (!(p >= 0.0 && p <= 1.0)) throw std::logic_error("SetLineDynamicProbability: p outside [0, 1]");
-  l->dynamic.p_dynamic = p;
-  l->dynamic.frame = frame_.index;
-  l->dynamic.stage = stage;
+  SetDynamicState(l ? &l->dynamic : nullptr, "SetLineDynamicProbability", "map line " + std::to_string(ml_id), p,
+                  frame_.index, stage);
 }
 
 cv::Mat& FrameEdit::grey_for_extraction() {

@@ -29,7 +29,7 @@ Canvas RenderFeaturePlot(const trace::FeatureHistory& h) {
   std::map<int64_t, int> per_frame;
   // The backbone's structure records (stage "structure") are line / plane geometry with p = 0,
   // not probabilities: not drawn.
-  const auto is_probability = [](const trace::FlatRecord& r) { return r.type == "prob" && r.stage != "structure"; };
+  const auto is_probability = [](const trace::FlatRecord& r) { return r.type == "prob" && r.stage != trace::kGeometryStage; };
   for (const auto& r : h.rows)
     if (is_probability(r)) ++per_frame[r.frame];
   std::map<int64_t, int> seen;

@@ -155,7 +155,7 @@ std::vector<OverlayFrame> CollectOverlayFrames(trace::TraceReader& reader, int64
             }
             // The backbone's geometry record (stage "structure", written after the final pose)
             // carries no probability: it must not overwrite a method's.
-            if (r.stage != "structure") s.has_prob = true, s.prob = r.after;
+            if (r.stage != trace::kGeometryStage) s.has_prob = true, s.prob = r.after;
             bool found = true;
             const bool line = r.kind == EntityKind::kLineSample;
             const double x0 = InputOr(r, line ? "x0" : "x_min", s.x0, &found);

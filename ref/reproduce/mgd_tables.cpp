@@ -58,8 +58,7 @@ struct Cell {
   std::vector<double> ate, rpe;  // seeds with a value
   int tracked = 0, frames = 0;
   std::map<std::string, std::vector<double>> ms;  // module -> per seed
-  RunSummary pr;                                   // counts summed over seeds
-  bool has_pr = false;
+  RunSummary pr;                                   // precision/recall counts summed over seeds
 };
 
 void AddRun(const RunSummary& s, Cell& c) {
@@ -68,14 +67,7 @@ void AddRun(const RunSummary& s, Cell& c) {
   if (s.has_ate) c.ate.push_back(s.ate.rmse);
   if (s.has_rpe) c.rpe.push_back(s.rpe_trans.rmse);
   for (const auto& [module, ms] : s.ms_modules) c.ms[module].push_back(ms);
-  if (!s.has_pr) return;
-  c.has_pr = true;
-  RunSummary& t = c.pr;
-  t.tp += s.tp, t.fp += s.fp, t.fn += s.fn, t.tn += s.tn;
-  t.part_tp += s.part_tp, t.part_fp += s.part_fp, t.part_fn += s.part_fn, t.part_tn += s.part_tn;
-  t.line_tp += s.line_tp, t.line_fp += s.line_fp, t.line_fn += s.line_fn, t.line_tn += s.line_tn;
-  t.line_part_tp += s.line_part_tp, t.line_part_fp += s.line_part_fp, t.line_part_fn += s.line_part_fn;
-  t.line_part_tn += s.line_part_tn;
+  if (s.has_pr) AddRejectionCounts(c.pr, s);
 }
 
 double F1(int64_t tp, int64_t fp, int64_t fn) { return tp > 0 ? 2.0 * tp / (2.0 * tp + fp + fn) : 0.0; }
@@ -163,15 +155,12 @@ int RunMgdTable(const MgdTableArgs& a) {
      << "\n";
 
   // ATE (Table 2 / Table 4) or RPE (Table 5) of the main variants with the paper's columns.
-  const auto value_table = [&](bool rpe, const PaperTable& paper, bool table2_columns) {
+  // Paper columns printed beside ours (Table 4 and 5 also have MWSLAM, which dynref does not run).
+  const std::vector<std::string> paper_cols2 = {"ORB-SLAM3", "MGD-SLAM"};
+  const std::vector<std::string> paper_cols4 = {"ORB-SLAM3", "MWSLAM", "MGD-SLAM-nD", "MGD-SLAM"};
+  const auto value_table = [&](bool rpe, const PaperTable& paper, const std::vector<std::string>& paper_cols) {
     md << "| Sequence |";
     for (const MgdVariant& v : main) md << " " << v.label << " |";
-    std::vector<std::string> paper_cols;
-    for (const MgdVariant& v : main) {
-      const std::string& col = table2_columns ? v.paper2 : v.paper4;
-      if (!col.empty()) paper_cols.push_back(col);
-    }
-    if (!table2_columns) paper_cols.insert(paper_cols.begin() + 1, "MWSLAM");
     for (const std::string& c : paper_cols) md << " paper " << c << " |";
     md << " mgd-nd / mgd | tracked (orb / mgd-nd / mgd) |\n|---|";
     for (size_t i = 0; i < main.size() + paper_cols.size() + 2; ++i) md << "---|";
@@ -190,7 +179,7 @@ int RunMgdTable(const MgdTableArgs& a) {
 
   if (a.table == "table2") {
     md << "## ATE RMSE (m) (paper Table 2)\n\n";
-    value_table(false, p2, true);
+    value_table(false, p2, paper_cols2);
     if (ablations) {
       md << "\n## Dynamic features against the ground-truth motion labels (paper: no such table)\n\n"
          << "Each variant traced at level full; a point is rejected when a stage's decision removes it "
@@ -211,10 +200,7 @@ int RunMgdTable(const MgdTableArgs& a) {
              << Prf(t.tp, t.fp, t.fn) << " | " << Prf(t.part_tp, t.part_fp, t.part_fn) << " | "
              << Prf(t.line_tp, t.line_fp, t.line_fn) << " | " << Prf(t.line_part_tp, t.line_part_fp, t.line_part_fn)
              << " |\n";
-          RunSummary& s = total[v];
-          s.tp += t.tp, s.fp += t.fp, s.fn += t.fn, s.line_tp += t.line_tp, s.line_fp += t.line_fp, s.line_fn += t.line_fn;
-          s.part_tp += t.part_tp, s.part_fp += t.part_fp, s.part_fn += t.part_fn;
-          s.line_part_tp += t.line_part_tp, s.line_part_fp += t.line_part_fp, s.line_part_fn += t.line_part_fn;
+          AddRejectionCounts(total[v], t);
         }
       md << "\n### All sequences together\n\n| Variant | points: precision | recall | F1 | points, moving part: "
             "precision | recall | F1 | lines: precision | recall | F1 | lines, moving part: precision | recall | F1 |\n"
@@ -232,11 +218,11 @@ int RunMgdTable(const MgdTableArgs& a) {
     md << PaperNotes("000-table2.csv", p2.notes);
   } else {
     md << "## ATE RMSE (m) (paper Table 4)\n\n";
-    value_table(false, p4, false);
+    value_table(false, p4, paper_cols4);
     md << "\n## RPE (paper Table 5)\n\n"
        << "dynref: translational RPE RMSE in m over 1 s (evaluate_rpe.py --fixed_delta --delta 1). The paper prints "
        << "'rad' and does not state its interval (see the notes), so only the ordering of the columns compares.\n\n";
-    value_table(true, p5, false);
+    value_table(true, p5, paper_cols4);
     md << "\n## Per-module CPU ms per frame of MGD-SLAM (paper Table 6)\n\n"
        << "dynref: one core, thread CPU time, trace level frames (`run.json` `timing`, `timing_stages`), mean over "
        << "seeds. Feature extraction = ORB + lines (FLD + LBD) + planes (AHC); dynamic removal = the mgd.* stages "

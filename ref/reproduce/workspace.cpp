@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -42,8 +43,14 @@ std::string SynthKey(const SynthSpec& s, const std::string& preset) {
          " detections " + s.detections + (s.blur ? " blur" : "") + (s.low_light ? " low-light" : "") + " dynref " + DYNREF_GIT_COMMIT + "\n";
 }
 
-// Precision/recall of the features rejected by the config's stages against GT motion labels: a
-// feature is truly dynamic iff its pixel belongs to an instance listed in SEQ/gt/moving.txt.
+// One cell of a confusion matrix: truth = truly dynamic, rejected = a stage took it out.
+void Count(bool truth, bool rejected, int64_t& tp, int64_t& fp, int64_t& fn, int64_t& tn) {
+  tp += truth && rejected, fp += !truth && rejected, fn += truth && !rejected, tn += !truth && !rejected;
+}
+
+// Precision/recall of the features (and frame lines) rejected by the config's stages against GT
+// motion labels: a feature is truly dynamic iff its pixel (a line: its midpoint) belongs to an
+// instance listed in SEQ/gt/moving.txt; "part" truth: that pixel itself moves (SEQ/gt/motion/).
 void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::string>& stages, RunSummary& s) {
   const Sequence seq = OpenSequence(seq_dir);
   render::GroundTruthLabels gt(seq_dir);
@@ -59,33 +66,17 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::st
     gf.moving = gt.Moving(stamp);
     std::map<int64_t, std::pair<double, double>> obs;
     std::set<int64_t> rejected;
-    const std::string prefix = "f" + std::to_string(frame) + ".";
-    const std::vector<trace::Record> records = reader.ReadGroup(g);
-    for (const trace::Record& r : records) {
-      if (r.type == trace::RecordType::kObservation) obs[r.feature_index] = {r.u, r.v};
-      if (r.type == trace::RecordType::kDecision && !r.kept && r.kind == trace::EntityKind::kFeature &&
-          stages.count(r.stage) && r.entity.rfind(prefix, 0) == 0)
-        rejected.insert(std::stoll(r.entity.substr(prefix.size())));
-    }
-    // Per-part truth: the moving pixels of the frame (a seated person's arm, not their still legs).
-    const cv::Mat motion = cv::imread(seq_dir + "/gt/motion/" + stamp + ".png", cv::IMREAD_UNCHANGED);
-    const auto moving_pixel = [&](double u, double v) {
-      const int x = static_cast<int>(std::floor(u + 0.5)), y = static_cast<int>(std::floor(v + 0.5));
-      return !motion.empty() && x >= 0 && y >= 0 && x < motion.cols && y < motion.rows && motion.at<uint8_t>(y, x) != 0;
-    };
-    for (const auto& [idx, uv] : obs) {
-      const bool dyn = gf.IsDynamic(uv.first, uv.second);
-      const bool rej = rejected.count(idx) > 0;
-      s.tp += dyn && rej, s.fp += !dyn && rej, s.fn += dyn && !rej, s.tn += !dyn && !rej;
-      const bool part = moving_pixel(uv.first, uv.second);
-      s.part_tp += part && rej, s.part_fp += !part && rej, s.part_fn += part && !rej, s.part_tn += !part && !rej;
-    }
-    // Frame lines: the structure record's segment (x0, y0, x1, y1), truth at its midpoint.
-    std::map<std::string, std::pair<double, double>> line_mid;
+    std::map<std::string, std::pair<double, double>> line_mid;  // the geometry record's segment midpoint
     std::set<std::string> line_rejected;
-    for (const trace::Record& r : records) {
+    const std::string prefix = "f" + std::to_string(frame) + ".";
+    for (const trace::Record& r : reader.ReadGroup(g)) {
+      const bool rejection = r.type == trace::RecordType::kDecision && !r.kept && stages.count(r.stage);
+      if (r.type == trace::RecordType::kObservation) obs[r.feature_index] = {r.u, r.v};
+      if (rejection && r.kind == trace::EntityKind::kFeature && r.entity.rfind(prefix, 0) == 0)
+        rejected.insert(std::stoll(r.entity.substr(prefix.size())));
       if (r.kind != trace::EntityKind::kLineSample) continue;
-      if (r.type == trace::RecordType::kProbability && r.stage == "structure") {
+      if (rejection) line_rejected.insert(r.entity);
+      if (r.type == trace::RecordType::kProbability && r.stage == trace::kGeometryStage) {
         double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
         for (const trace::NamedValue& nv : r.inputs) {
           if (nv.name == "x0") x0 = nv.value;
@@ -95,14 +86,22 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::st
         }
         line_mid[r.entity] = {0.5 * (x0 + x1), 0.5 * (y0 + y1)};
       }
-      if (r.type == trace::RecordType::kDecision && !r.kept && stages.count(r.stage)) line_rejected.insert(r.entity);
+    }
+    // Per-part truth: the moving pixels of the frame (a seated person's arm, not their still legs).
+    const cv::Mat motion = cv::imread(seq_dir + "/gt/motion/" + stamp + ".png", cv::IMREAD_UNCHANGED);
+    const auto moving_pixel = [&](double u, double v) {
+      const int x = static_cast<int>(std::floor(u + 0.5)), y = static_cast<int>(std::floor(v + 0.5));
+      return !motion.empty() && x >= 0 && y >= 0 && x < motion.cols && y < motion.rows && motion.at<uint8_t>(y, x) != 0;
+    };
+    for (const auto& [idx, uv] : obs) {
+      const bool rej = rejected.count(idx) > 0;
+      Count(gf.IsDynamic(uv.first, uv.second), rej, s.tp, s.fp, s.fn, s.tn);
+      Count(moving_pixel(uv.first, uv.second), rej, s.part_tp, s.part_fp, s.part_fn, s.part_tn);
     }
     for (const auto& [id, uv] : line_mid) {
-      const bool dyn = gf.IsDynamic(uv.first, uv.second), part = moving_pixel(uv.first, uv.second);
       const bool rej = line_rejected.count(id) > 0;
-      s.line_tp += dyn && rej, s.line_fp += !dyn && rej, s.line_fn += dyn && !rej, s.line_tn += !dyn && !rej;
-      s.line_part_tp += part && rej, s.line_part_fp += !part && rej, s.line_part_fn += part && !rej,
-          s.line_part_tn += !part && !rej;
+      Count(gf.IsDynamic(uv.first, uv.second), rej, s.line_tp, s.line_fp, s.line_fn, s.line_tn);
+      Count(moving_pixel(uv.first, uv.second), rej, s.line_part_tp, s.line_part_fp, s.line_part_fn, s.line_part_tn);
     }
   }
   s.has_pr = true;
@@ -112,26 +111,27 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::st
 const char* const kRejectionFields[] = {"tp", "fp", "fn", "tn", "part_tp", "part_fp", "part_fn", "part_tn",
                                         "line_tp", "line_fp", "line_fn", "line_tn", "line_part_tp", "line_part_fp",
                                         "line_part_fn", "line_part_tn"};
-std::vector<int64_t*> RejectionCounts(RunSummary& s) {
-  return {&s.tp,      &s.fp,      &s.fn,      &s.tn,      &s.part_tp,      &s.part_fp,      &s.part_fn,      &s.part_tn,
-          &s.line_tp, &s.line_fp, &s.line_fn, &s.line_tn, &s.line_part_tp, &s.line_part_fp, &s.line_part_fn,
-          &s.line_part_tn};
-}
-void WriteRejectionCounts(RunSummary& s, const std::string& key) {
+int64_t RunSummary::* const kRejectionCounts[] = {
+    &RunSummary::tp,      &RunSummary::fp,      &RunSummary::fn,      &RunSummary::tn,
+    &RunSummary::part_tp, &RunSummary::part_fp, &RunSummary::part_fn, &RunSummary::part_tn,
+    &RunSummary::line_tp, &RunSummary::line_fp, &RunSummary::line_fn, &RunSummary::line_tn,
+    &RunSummary::line_part_tp, &RunSummary::line_part_fp, &RunSummary::line_part_fn, &RunSummary::line_part_tn};
+static_assert(std::size(kRejectionFields) == std::size(kRejectionCounts));
+
+void WriteRejectionCounts(const RunSummary& s, const std::string& key) {
   nlohmann::json j;
   j["key"] = Fnv1a64(key);  // of the run's marker: sequence, commit and config
-  const std::vector<int64_t*> c = RejectionCounts(s);
-  for (size_t i = 0; i < c.size(); ++i) j[kRejectionFields[i]] = *c[i];
+  for (size_t i = 0; i < std::size(kRejectionCounts); ++i) j[kRejectionFields[i]] = s.*kRejectionCounts[i];
   AtomicWriteFile(s.run_dir + "/rejection.json", j.dump(1) + "\n");
 }
+
 // false when the file is missing or was counted for another run (key).
 bool ReadRejectionCounts(RunSummary& s, const std::string& key) {
   const std::string path = s.run_dir + "/rejection.json";
   if (!fs::exists(path)) return false;
   const nlohmann::json j = nlohmann::json::parse(ReadText(path), nullptr, false);
   if (j.is_discarded() || j.value("key", uint64_t{0}) != Fnv1a64(key)) return false;
-  const std::vector<int64_t*> c = RejectionCounts(s);
-  for (size_t i = 0; i < c.size(); ++i) *c[i] = j.value(kRejectionFields[i], int64_t{0});
+  for (size_t i = 0; i < std::size(kRejectionCounts); ++i) s.*kRejectionCounts[i] = j.value(kRejectionFields[i], int64_t{0});
   s.has_pr = true;
   return true;
 }
@@ -198,6 +198,10 @@ void CheckRunAs(const std::string& run_dir, const std::string& seq_dir, const Me
 }
 
 }  // namespace
+
+void AddRejectionCounts(RunSummary& to, const RunSummary& from) {
+  for (int64_t RunSummary::* c : kRejectionCounts) to.*c += from.*c;
+}
 
 MethodConfig LoadConfigWithout(const std::string& config_name, const std::vector<std::string>& drop) {
   MethodConfig cfg = LoadMethodConfig(MethodConfigPath(config_name));

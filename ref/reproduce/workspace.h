@@ -49,6 +49,9 @@ struct RunSummary {
   std::map<std::string, double> ms_modules;  // every run.json timing module, + "stages" (sum of timing_stages)
 };
 
+// Adds every precision/recall count of `from` (points, lines, both truths) to `to`.
+void AddRejectionCounts(RunSummary& to, const RunSummary& from);
+
 // How a Workspace treats its folder.
 enum class WorkMode {
   kMake,     // synthesise and run what is missing or out of date (with reuse: keep what is current)

@@ -30,20 +30,23 @@ std::vector<LineCorrespondence> MatchLinesToPrevious(const FrameStructure& cur, 
     for (size_t j = 0; j < prev.lines.size(); ++j) {
       const FrameLine& P = prev.lines[j];
       if (P.l.head<2>().squaredNorm() == 0) continue;
-      const int ham = have_desc ? features::DescriptorDistance(cur.line_descriptors.row(static_cast<int>(i)),
-                                                               prev.line_descriptors.row(static_cast<int>(j)))
-                                : -1;
-      const bool same_map_line = ml >= 0 && j < prev.map_line_ids.size() && prev.map_line_ids[j] == ml;
-      if (same_map_line) {
-        cand.emplace_back(0, std::max(ham, 0), static_cast<int>(i), static_cast<int>(j));
+      const auto hamming = [&] {
+        return have_desc ? features::DescriptorDistance(cur.line_descriptors.row(static_cast<int>(i)),
+                                                        prev.line_descriptors.row(static_cast<int>(j)))
+                         : -1;
+      };
+      if (ml >= 0 && j < prev.map_line_ids.size() && prev.map_line_ids[j] == ml) {  // same map line
+        cand.emplace_back(0, std::max(hamming(), 0), static_cast<int>(i), static_cast<int>(j));
         continue;
       }
-      if (!have_desc || ham > gates.max_bits) continue;
-      if (features::LineAngleDiff(C.angle, P.angle) >= gates.angle_rad) continue;
+      // Geometric gates first (cheap), the descriptor distance only for pairs that pass them.
+      if (!have_desc || features::LineAngleDiff(C.angle, P.angle) >= gates.angle_rad) continue;
       const Eigen::Vector2d pm = 0.5 * (P.s + P.e);
       if (std::fabs(C.l.dot(Eigen::Vector3d(pm.x(), pm.y(), 1))) > gates.radius_px ||
           std::fabs(P.l.dot(Eigen::Vector3d(cm.x(), cm.y(), 1))) > gates.radius_px)
         continue;
+      const int ham = hamming();
+      if (ham > gates.max_bits) continue;
       cand.emplace_back(1, ham, static_cast<int>(i), static_cast<int>(j));
     }
   }

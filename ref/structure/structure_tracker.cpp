@@ -372,7 +372,7 @@ void StructureTracker::TraceFrame(const Frame& f) const {
   for (size_t i = 0; i < s.lines.size(); ++i) {
     const FrameLine& L = s.lines[i];
     const int64_t id = s.line_outlier.empty() || s.line_outlier[i] ? -1 : s.map_line_ids[i];
-    trace_.ProbabilityUpdate("structure", trace::EntityKind::kLineSample, FrameStructure::LineId(f.index, static_cast<int>(i)),
+    trace_.ProbabilityUpdate(trace::kGeometryStage, trace::EntityKind::kLineSample, FrameStructure::LineId(f.index, static_cast<int>(i)),
                              {{"x0", L.s.x()}, {"y0", L.s.y()}, {"x1", L.e.x()}, {"y1", L.e.y()},
                               {"map_line", static_cast<double>(id)}, {"has_3d", L.has_3d ? 1.0 : 0.0},
                               {"group", static_cast<double>(L.group)}},
@@ -390,7 +390,7 @@ void StructureTracker::TraceFrame(const Frame& f) const {
   for (size_t j = 0; j < s.planes.size(); ++j) {
     const features::PlaneObservation& P = s.planes[j];
     const int64_t id = s.plane_outlier.empty() || s.plane_outlier[j] ? -1 : s.map_plane_ids[j];
-    trace_.ProbabilityUpdate("structure", trace::EntityKind::kPlane, FrameStructure::PlaneId(f.index, static_cast<int>(j)),
+    trace_.ProbabilityUpdate(trace::kGeometryStage, trace::EntityKind::kPlane, FrameStructure::PlaneId(f.index, static_cast<int>(j)),
                              {{"x_min", static_cast<double>(box[j][0])}, {"y_min", static_cast<double>(box[j][1])},
                               {"x_max", static_cast<double>(box[j][2])}, {"y_max", static_cast<double>(box[j][3])},
                               {"n_x", P.n.x()}, {"n_y", P.n.y()}, {"n_z", P.n.z()}, {"d", P.d},

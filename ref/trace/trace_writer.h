@@ -37,6 +37,10 @@ enum class EntityKind : uint8_t {
   kFrame = 7,
 };
 const char* EntityKindName(EntityKind kind);
+// Stage of the backbone's line / plane geometry records (structure room, issue 13): PROB records
+// whose before/after (0) are not probabilities, only carriers of the geometry inputs. Readers
+// that draw or count probabilities skip them.
+constexpr const char* kGeometryStage = "structure";
 
 struct NamedValue {
   std::string name;

@@ -12,11 +12,8 @@ namespace {
 
 std::array<Eigen::Vector2d, 3> SamplePixels(const FrameLine& L) { return {L.s, 0.5 * (L.s + L.e), L.e}; }
 
-// Kept lines: weight 1 - max P (or 1); above tau_dyn: weight 0.
-double LineWeight(double p_max, const MgdOptions& o) {
-  if (p_max > o.tau_dyn) return 0.0;
-  return o.weight == WeightForm::kOneMinusP ? 1.0 - p_max : 1.0;
-}
+// A line above tau_dyn by its largest sample: weight 0 (out); else the kept weight.
+double LineWeight(double p_max, const MgdOptions& o) { return p_max > o.tau_dyn ? 0.0 : KeptWeight(p_max, o); }
 
 }  // namespace
 

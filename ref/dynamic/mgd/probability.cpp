@@ -66,6 +66,8 @@ double Fuse(const Cues& c, const MgdOptions& o) {
   return Sigmoid(z);
 }
 
+double KeptWeight(double p, const MgdOptions& o) { return o.weight == WeightForm::kOneMinusP ? 1.0 - p : 1.0; }
+
 double Smooth(double p_prev, double s, const MgdOptions& o) {
   return o.smoothing == SmoothingForm::kNewEvidence ? (1.0 - o.a) * p_prev + o.a * s : o.a * p_prev + (1.0 - o.a) * s;
 }

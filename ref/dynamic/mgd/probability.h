@@ -36,6 +36,9 @@ struct Cues {
 };
 double Fuse(const Cues& c, const MgdOptions& o);
 
+// Sec. 3.6 weight of a kept observation (spec E13): 1 - P, or 1 with weight: none.
+double KeptWeight(double p, const MgdOptions& o);
+
 // Sec. 3.4 temporal smoothing, form per spec E1.
 double Smooth(double p_prev, double s, const MgdOptions& o);
 

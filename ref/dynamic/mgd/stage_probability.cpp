@@ -167,7 +167,7 @@ void ProbabilityStage::Run(StageContext& ctx) {
     if (p_smooth[i] < 0) continue;  // excluded before this stage
     next_prev[i] = p[i];
     const bool suppress = p[i] > o.tau_dyn;
-    const double w = suppress ? 0.0 : (o.weight == WeightForm::kOneMinusP ? 1.0 - p[i] : 1.0);
+    const double w = suppress ? 0.0 : KeptWeight(p[i], o);
     if (full)
       tr.ProbabilityUpdate("mgd.diffuse", trace::EntityKind::kFeature, f.FeatureId(fi),
                            {{"neighbours", double(neighbours[i])}, {"weight", w}}, p_smooth[i], p[i]);
