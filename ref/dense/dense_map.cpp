@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
 #include <opencv2/calib3d.hpp>
 #include <stdexcept>
 
@@ -105,7 +104,9 @@ PointCloud BackProjectKeyframe(const cv::Mat& bgr, const cv::Mat& depth_m, const
   return out;
 }
 
-DenseMap::DenseMap(const DenseMapOptions& options) : options_(options), grid_(options.global_leaf_m) {
+DenseMap::DenseMap(const DenseMapOptions& options)
+    : options_(options), grid_(options.global_leaf_m),
+      bricks_(options.global_leaf_m, options.context_margin_m) {
   options_.Check();
 }
 
@@ -121,52 +122,96 @@ KeyframeInsertStats DenseMap::AddKeyframe(const cv::Mat& bgr, const cv::Mat& dep
   st.after_voxel = static_cast<int64_t>(voxel.size());
   const Eigen::Matrix3d R = T_wc.linear();
   const Eigen::Vector3d t = T_wc.translation();
+  PointCloud& out = options_.incremental ? pending_ : cloud_;
+  out.reserve(out.size() + voxel.size());
   for (ColoredPoint p : voxel) {
     const Eigen::Vector3d w = R * Eigen::Vector3d(p.x, p.y, p.z) + t;
     p.x = static_cast<float>(w.x()), p.y = static_cast<float>(w.y()), p.z = static_cast<float>(w.z());
-    (options_.incremental ? pending_ : cloud_).push_back(p);
+    out.push_back(p);
   }
   ++keyframes_;
-  if (++since_filter_ >= options_.filter_every_keyframes) {
-    st.sor_removed = options_.incremental ? FilterPending() : FilterGlobal();
+  ++since_filter_;
+  // Incremental mode seeds the map with the first keyframe (one keyframe's SOR instead of N's
+  // from scratch); afterwards both modes filter every N keyframes.
+  if (since_filter_ >= options_.filter_every_keyframes || (options_.incremental && grid_.size() == 0)) {
+    st.sor_removed = options_.incremental ? FilterBatch() : FilterGlobal();
     st.global_filter_ran = true;
   }
   st.map_points = static_cast<int64_t>(options_.incremental ? grid_.size() + pending_.size() : cloud_.size());
   return st;
 }
 
-int64_t DenseMap::FilterPending() {
+bool DenseMap::TouchesMap(const VoxelKey& v) const {
+  static constexpr int kFace[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+  for (const auto& d : kFace)
+    if (grid_.Find({v[0] + d[0], v[1] + d[1], v[2] + d[2]}) != VoxelKeyIndex::kNone) return true;
+  for (int64_t dx = -1; dx <= 1; ++dx)
+    for (int64_t dy = -1; dy <= 1; ++dy)
+      for (int64_t dz = -1; dz <= 1; ++dz)
+        if (std::abs(dx) + std::abs(dy) + std::abs(dz) >= 2 &&
+            grid_.Find({v[0] + dx, v[1] + dy, v[2] + dz}) != VoxelKeyIndex::kNone)
+          return true;
+  return false;
+}
+
+void DenseMap::MergeIntoMap(const VoxelKey& key, const VoxelAccumulator& points) {
+  const size_t before = grid_.size();
+  const uint32_t i = grid_.Merge(key, points);
+  if (i == before) bricks_.Add(key, grid_.PositionAt(i));
+  else bricks_.Move(i, grid_.PositionAt(i));
+}
+
+int64_t DenseMap::FilterBatch() {
   since_filter_ = 0;
   if (pending_.empty()) return 0;
-  // The new points (one surface seen by several keyframes) are first merged into voxels of the
-  // global leaf; SOR judges these voxels, with the map's voxels around them (their bounding box
-  // grown by the margin) as neighbours; the raw points of the kept voxels then enter the global
-  // grid, so its centroids are exactly those of every accepted point.
-  VoxelGrid batch(options_.global_leaf_m);
-  batch.Add(pending_);
-  const PointCloud centroids = batch.Cloud();
-  std::array<float, 3> lo{centroids[0].x, centroids[0].y, centroids[0].z}, hi = lo;
-  for (const ColoredPoint& p : centroids) {
-    lo = {std::min(lo[0], p.x), std::min(lo[1], p.y), std::min(lo[2], p.z)};
-    hi = {std::max(hi[0], p.x), std::max(hi[1], p.y), std::max(hi[2], p.z)};
-  }
-  const float m = static_cast<float>(options_.context_margin_m);
-  for (int a = 0; a < 3; ++a) lo[size_t(a)] -= m, hi[size_t(a)] += m;
-  const std::vector<uint8_t> keep = StatisticalOutlierMask(centroids, grid_.CentroidsIn(lo, hi), options_.sor);
-  const std::vector<VoxelGrid::Key> keys = batch.Keys();
-  std::map<VoxelGrid::Key, bool> kept_voxel;
-  for (size_t i = 0; i < keys.size(); ++i) kept_voxel.emplace(keys[i], keep[i] != 0);
-  PointCloud kept;
-  kept.reserve(pending_.size());
-  int64_t removed = 0;
-  for (const ColoredPoint& p : pending_) {
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) continue;
-    if (kept_voxel.at(batch.KeyOf(p))) kept.push_back(p);
-    else ++removed;
-  }
-  grid_.Add(kept);
+  // The new points (one surface seen by several keyframes) are merged into voxels of the global
+  // leaf. A voxel the map already holds, or one touching a map voxel (its 26-neighbourhood: the
+  // known surface seen again through depth noise), joins the map; every other voxel is judged by
+  // SOR against the map so grown and the other judged voxels: its mean distance to its k nearest
+  // neighbours, each capped at context_margin_m (exact within it: VoxelBricks), against the
+  // threshold from the distribution over the map's voxels (their statistic when they were judged
+  // and kept) and the judged ones -- the cloud SOR over the whole map would see. The first filter
+  // (empty map) is plain SOR of the batch with capped distances. Accepted voxels' sums enter the
+  // global grid, so its centroids are those of every accepted point. A rejected voxel leaves no
+  // trace and is judged afresh when observed again.
+  const SortedVoxels batch = SortIntoVoxels(pending_, options_.global_leaf_m);
   pending_.clear();
+  const bool seed = grid_.size() == 0;
+  std::vector<uint8_t> judged_flag(batch.size(), 0);
+  std::vector<uint32_t> judged;
+  for (uint32_t v = 0; v < batch.size(); ++v)
+    if (seed || (grid_.Find(batch.keys[v]) == VoxelKeyIndex::kNone && !TouchesMap(batch.keys[v])))
+      judged.push_back(v), judged_flag[v] = 1;
+  for (uint32_t v = 0; v < batch.size(); ++v)
+    if (!judged_flag[v]) MergeIntoMap(batch.keys[v], batch.acc[v]);
+  int64_t removed = 0;
+  if (judged.empty()) return 0;
+  const std::vector<double> mean_dist = JudgedStatistic(batch, judged);
+  std::vector<uint8_t> keep(judged.size(), 1);
+  if (!mean_dist.empty()) {
+    SorStatistics cloud = accepted_stats_;  // the cloud SOR would see: the map plus the judged voxels
+    cloud.Add(mean_dist);
+    const double threshold = cloud.Threshold(options_.sor.std_mult);
+    std::vector<double> accepted;
+    for (size_t j = 0; j < judged.size(); ++j) {
+      keep[j] = mean_dist[j] <= threshold ? 1 : 0;
+      if (keep[j]) accepted.push_back(mean_dist[j]);
+    }
+    accepted_stats_.Add(accepted);
+  }
+  for (size_t j = 0; j < judged.size(); ++j) {
+    if (keep[j]) MergeIntoMap(batch.keys[judged[j]], batch.acc[judged[j]]);
+    else removed += batch.acc[judged[j]].n;
+  }
   return removed;
+}
+
+std::vector<double> DenseMap::JudgedStatistic(const SortedVoxels& batch, const std::vector<uint32_t>& judged) const {
+  const int k = options_.sor.k;
+  if (grid_.size() + judged.size() <= static_cast<size_t>(k)) return {};  // as MeanKnnDistances
+  VoxelBricks judged_bricks(options_.global_leaf_m, options_.context_margin_m);
+  for (uint32_t v : judged) judged_bricks.Add(batch.keys[v], batch.acc[v].Position());
+  return CappedMeanKnnDistances(judged_bricks, {&bricks_}, k, options_.context_margin_m);
 }
 
 int64_t DenseMap::FilterGlobal() {
@@ -181,8 +226,9 @@ int64_t DenseMap::FilterGlobal() {
 int64_t DenseMap::Finish() {
   if (options_.incremental) {
     int64_t removed = 0;
-    if (options_.final_filter && since_filter_ > 0) removed = FilterPending();
-    grid_.Add(pending_);  // final_filter off: the last points enter unfiltered
+    if (options_.final_filter && since_filter_ > 0) removed = FilterBatch();
+    const SortedVoxels rest = SortIntoVoxels(pending_, options_.global_leaf_m);  // final_filter off: unfiltered
+    for (size_t v = 0; v < rest.size(); ++v) MergeIntoMap(rest.keys[v], rest.acc[v]);
     pending_.clear();
     cloud_ = grid_.Cloud();
     return removed;

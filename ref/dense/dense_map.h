@@ -3,10 +3,13 @@
 //   colour = RGB (recognised static objects optionally recoloured by class, spec 001 E10),
 //   single-frame voxel downsample (leaf keyframe_leaf_m), transform to world, append;
 //   every `filter_every_keyframes` keyframes: SOR then voxel grid (global_leaf_m) on the whole map
-//   (`incremental` = false, the paper's reading), or (`incremental` = true, issue 18) SOR on the
-//   points added since the last filter only (merged into global-leaf voxels first), with the map's
-//   voxels around them as neighbours, the raw points of kept voxels then accumulated into a global
-//   voxel grid that is never re-voxelised: cost per filter flat in map size.
+//   (`incremental` = false, the paper's reading), or (`incremental` = true, issue 18) on the
+//   points added since the last filter only, merged into global-leaf voxels as they arrive:
+//   voxels the map holds or touches join it, the others are judged by SOR (neighbour distances
+//   capped at context_margin_m, threshold from the map's and the judged voxels' distribution;
+//   the first keyframe seeds the map by plain SOR); accepted voxels are accumulated into a
+//   global voxel grid that is never re-voxelised: cost per filter proportional to the new
+//   points, flat in map size.
 // Keyframe poses are taken as given at insertion (the paper's online mapping thread); later BA
 // corrections are not re-applied.
 #pragma once
@@ -16,6 +19,7 @@
 #include "core/se3.h"
 #include "dense/filters.h"
 #include "dense/point_cloud.h"
+#include "dense/voxel_bricks.h"
 #include "io/camera.h"
 
 namespace dynref::dense {
@@ -31,7 +35,7 @@ struct DenseMapOptions {
   bool colour_by_class = true;     // Fig. 8c: monitor green, chair red (E10)
   bool final_filter = true;        // one SOR + voxel pass at Finish() if keyframes were added
   bool incremental = false;        // filter new points only (see above)
-  double context_margin_m = 0.1;   // incremental: map points within this of the new ones are SOR neighbours
+  double context_margin_m = 0.03;  // incremental: SOR neighbour distances capped here (neighbours looked up within it)
   void Check() const;
 };
 
@@ -73,10 +77,16 @@ class DenseMap {
 
  private:
   int64_t FilterGlobal();
-  int64_t FilterPending();  // incremental mode
+  int64_t FilterBatch();  // incremental mode
+  bool TouchesMap(const VoxelKey& voxel) const;  // a map voxel in its 26-neighbourhood
+  void MergeIntoMap(const VoxelKey& key, const VoxelAccumulator& points);
+  // Capped SOR statistic of the judged batch voxels (empty: too few points to judge).
+  std::vector<double> JudgedStatistic(const SortedVoxels& batch, const std::vector<uint32_t>& judged) const;
   DenseMapOptions options_;
   VoxelGrid grid_;          // incremental mode: the global map
   PointCloud pending_;      // incremental mode: world points since the last filter
+  VoxelBricks bricks_;      // incremental mode: grid_'s centroids for the SOR look-ups
+  SorStatistics accepted_stats_;    // statistic of the judged voxels the map kept
   cv::Mat rays_;  // UndistortedRays of the run's camera (empty: no distortion)
   bool rays_ready_ = false;
   PointCloud cloud_;

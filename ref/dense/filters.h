@@ -2,51 +2,15 @@
 // then "statistical outlier removal combined with voxel grid sampling"), PCL-equivalent and
 // deterministic.
 #pragma once
-#include <array>
 #include <cstddef>
 #include <cstdint>
-#include <map>
-#include <tuple>
+#include <limits>
 #include <vector>
 
 #include "dense/point_cloud.h"
+#include "dense/voxel_grid.h"  // VoxelGrid, VoxelDownsample
 
 namespace dynref::dense {
-
-// Voxel grid (PCL VoxelGrid semantics): one point per occupied cubic voxel of side leaf_m, at
-// the centroid of its points; colour = rounded mean colour; class_id = most frequent class of
-// the voxel (ties: smallest id; -1 counts like any id). Voxel key = floor(p / leaf_m) per axis;
-// output ordered by key (x, then y, then z), so the result is independent of the input order
-// up to the floating-point summation order (which follows the input order).
-PointCloud VoxelDownsample(const PointCloud& in, double leaf_m);
-
-// The same voxel grid, filled incrementally: Cloud() after Add(a), Add(b) equals
-// VoxelDownsample(a + b) exactly (accumulation in add order). Used by the dense map to grow a
-// global map without re-voxelising it (issue 18).
-class VoxelGrid {
- public:
-  using Key = std::tuple<int64_t, int64_t, int64_t>;
-  explicit VoxelGrid(double leaf_m);  // std::invalid_argument unless leaf_m > 0
-  void Add(const PointCloud& points);
-  Key KeyOf(const ColoredPoint& p) const;  // floor(p / leaf_m) per axis (finite points)
-  std::vector<Key> Keys() const;           // key order (the order of Cloud())
-  PointCloud Cloud() const;           // key order, as VoxelDownsample
-  size_t size() const { return voxels_.size(); }
-  // Centroids of the voxels whose centroid lies inside [lo, hi] (per axis); cost proportional to
-  // the voxels in the x-slab of the box, not to the whole grid.
-  PointCloud CentroidsIn(const std::array<float, 3>& lo, const std::array<float, 3>& hi) const;
-
- private:
-  struct Accumulator {
-    double x = 0, y = 0, z = 0;
-    double r = 0, g = 0, b = 0;
-    int n = 0;
-    std::map<int, int> classes;  // class id -> count
-  };
-  static ColoredPoint Centroid(const Accumulator& a);
-  double leaf_m_, inv_;
-  std::map<Key, Accumulator> voxels_;
-};
 
 struct SorOptions {
   int k = 50;              // k_sor, not stated: PCL tutorial value
@@ -70,5 +34,21 @@ PointCloud StatisticalOutlierRemovalWithContext(const PointCloud& query, const P
                                                 const SorOptions& options);
 // The same decision as a mask over `query` (1 = kept).
 std::vector<uint8_t> StatisticalOutlierMask(const PointCloud& query, const PointCloud& context, const SorOptions& options);
+
+// SOR's per-point statistic: mean distance of each query point to its k nearest neighbours in
+// context + query (self excluded), each distance capped at cap_m (the incremental dense map's
+// reading, issue 18; infinity = PCL). Empty when context + query has <= k points.
+std::vector<double> MeanKnnDistances(const PointCloud& query, const PointCloud& context, int k,
+                                     double cap_m = std::numeric_limits<double>::infinity());
+
+// Running mean and sample variance of SOR's mean k-NN distances: the dense map's incremental mode
+// keeps those of the map's voxels, so new voxels are judged against the whole cloud's
+// distribution (what SOR over the whole cloud would use) without recomputing it.
+struct SorStatistics {
+  double n = 0, sum = 0, sum_sq = 0;
+  void Add(const std::vector<double>& mean_dist);
+  // mean + std_mult * sample std; +inf with fewer than 2 samples (nothing can be judged).
+  double Threshold(double std_mult) const;
+};
 
 }  // namespace dynref::dense
