@@ -11,11 +11,21 @@
 namespace dynref {
 namespace {
 
+// Median and mean over the run; mean over the first and the last min(100, n / 2) frames (issue
+// 18: does the cost per frame grow with the sequence?).
 nlohmann::json Summary(std::vector<double> v) {
   nlohmann::json j;
   if (v.empty()) return j;
   double sum = 0;
   for (double x : v) sum += x;
+  const size_t window = std::min<size_t>(100, v.size() / 2);
+  if (window > 0) {
+    double head = 0, tail = 0;
+    for (size_t i = 0; i < window; ++i) head += v[i], tail += v[v.size() - 1 - i];
+    j["head_tail_frames"] = window;
+    j["head_mean_ms_per_frame"] = head / static_cast<double>(window);
+    j["tail_mean_ms_per_frame"] = tail / static_cast<double>(window);
+  }
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
   j["median_ms_per_frame"] = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);

@@ -2,6 +2,7 @@
 // stage hooks (exclusion / weights) reaching the backbone.
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -112,6 +113,14 @@ TEST_CASE("run: real fr1_desk frames, every frame-to-frame motion close to groun
     CHECK(j["timing"][module]["median_ms_per_frame"].get<double>() >= 0.0);
   }
   CHECK(j["timing"]["total"]["median_ms_per_frame"].get<double>() > 0.0);
+  // Means over the first and last min(100, n / 2) frames: with an even number of frames (< 200)
+  // the two halves cover the run and average to its mean.
+  const nlohmann::json& total = j["timing"]["total"];
+  const double frames = j["frames_processed"].get<double>();
+  REQUIRE(total["head_tail_frames"].get<double>() == std::floor(frames / 2));
+  if (static_cast<int>(frames) % 2 == 0)
+    CHECK(0.5 * (total["head_mean_ms_per_frame"].get<double>() + total["tail_mean_ms_per_frame"].get<double>()) ==
+          Approx(total["mean_ms_per_frame"].get<double>()));
   CHECK(j["config"]["backbone"]["n_features"]["value"] == "1000");
 }
 
