@@ -24,6 +24,9 @@ void RegisterDiffCommand(CLI::App& root, CommandList& out) {
   app->add_option("--rel", args->options.rel_tol, "Relative float tolerance (default 0)");
   app->add_option("--tol", args->tolerances, "Per-field absolute tolerance FIELD=X (repeatable)");
   app->add_option("--max-report", args->options.max_report, "Divergences listed (default 20)");
+  app->add_flag("--summary", args->options.summary,
+                "Also summarise how far the candidate strays: final pose deviation (mm, deg) and the "
+                "distribution of probability differences per stage over the records both runs share");
   out.push_back({app, [args] {
                    for (const std::string& t : args->tolerances) args->options.AddFieldTolerance(t);
                    const std::string g = trace::ResolveTracePath(args->golden);

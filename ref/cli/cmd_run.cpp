@@ -31,6 +31,10 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
                   "e.g. sgdo.depth.eta=0.05, or a backbone key, e.g. backbone.min_init_points=100; recorded in "
                   "run.json with source 'dynref run --set'");
   app->add_flag("--overlays", opts->overlays, "render RUN/overlays/overlay_<frame>.png after the run");
+  app->add_option("--variant", opts->variant,
+                  "oracle (default: single thread, bit-for-bit reproducible) or concurrent (local mapping in its own "
+                  "thread as in ORB-SLAM2: results vary from run to run; compare with dynref diff ORACLE RUN --summary)")
+      ->check(CLI::IsMember({"oracle", "concurrent"}));
   app->add_option("--threads", opts->threads,
                   "threads for the work that stays bit-identical (ORB extraction by pyramid level); results and "
                   "traces are the same for every N; with N > 1 run.json timings are wall-clock ms (default 1)");

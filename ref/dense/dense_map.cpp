@@ -229,7 +229,8 @@ int64_t DenseMap::Finish() {
     if (options_.final_filter && since_filter_ > 0) removed = FilterBatch();
     const SortedVoxels rest = SortIntoVoxels(pending_, options_.global_leaf_m);  // final_filter off: unfiltered
     for (size_t v = 0; v < rest.size(); ++v) MergeIntoMap(rest.keys[v], rest.acc[v]);
-    pending_.clear();
+    pending_ = PointCloud();
+    bricks_ = VoxelBricks(options_.global_leaf_m, options_.context_margin_m);  // no filter after Finish
     cloud_ = grid_.Cloud();
     return removed;
   }

@@ -24,7 +24,7 @@ VoxelKey VoxelBricks::BrickOf(const VoxelKey& v) const {
 void VoxelBricks::Add(const VoxelKey& voxel, const std::array<float, 3>& pos) {
   const uint32_t b = bricks_.Insert(BrickOf(voxel));
   if (b == members_.size()) members_.emplace_back();
-  where_.emplace_back(b, static_cast<uint32_t>(members_[b].size()));
+  where_.push_back({b, static_cast<uint32_t>(members_[b].size())});
   members_[b].push_back({pos[0], pos[1], pos[2], static_cast<uint32_t>(where_.size() - 1)});
 }
 

@@ -42,7 +42,7 @@ class VoxelBricks {
   double leaf_m_;
   KeyHash bricks_;
   std::vector<std::vector<Point>> members_;             // per brick, insertion order
-  std::vector<std::pair<uint32_t, uint32_t>> where_;    // id -> (brick, slot)
+  ChunkedVector<std::pair<uint32_t, uint32_t>> where_;  // id -> (brick, slot)
 };
 
 // SOR's statistic of every point of `queries` (ids 0 .. n-1) with neighbour distances capped at

@@ -17,8 +17,8 @@ uint64_t Mix(uint64_t h) {  // splitmix64 finaliser
   return h ^ (h >> 31);
 }
 
-uint8_t RoundColour(double sum, int n) {
-  return static_cast<uint8_t>(std::clamp(std::lround(sum / n), 0L, 255L));
+uint8_t RoundColour(uint32_t sum, int n) {
+  return static_cast<uint8_t>(std::clamp(std::lround(static_cast<double>(sum) / n), 0L, 255L));
 }
 
 }  // namespace
@@ -56,13 +56,6 @@ uint32_t KeyHash::Insert(const VoxelKey& key) {
   }
 }
 
-void KeyHash::Reserve(size_t n) {
-  keys_.reserve(n);
-  size_t want = 64;
-  while (want < 2 * n) want *= 2;
-  if (want > slots_.size()) Rehash(want);
-}
-
 void KeyHash::Rehash(size_t slots) {
   slots_.assign(slots, kEmpty);
   const uint64_t mask = slots_.size() - 1;
@@ -90,7 +83,7 @@ uint32_t VoxelKeyIndex::Insert(const VoxelKey& key) {
   const VoxelKey brick = BrickOf(key);
   uint32_t b = BrickId(brick);
   if (b == kNone) b = bricks_.Insert(brick), memo_key_ = brick, memo_id_ = b;
-  if (b * size_t{kCells} == cells_.size()) cells_.resize(cells_.size() + kCells, kNone);
+  if (b * size_t{kCells} == cells_.size()) cells_.resize_filled(cells_.size() + kCells, kNone);
   uint32_t& cell = cells_[b * size_t{kCells} + CellOf(key)];
   if (cell == kNone) {
     if (keys_.size() >= kNone) throw std::length_error("VoxelKeyIndex: more than 2^32 - 1 voxels");
@@ -100,7 +93,6 @@ uint32_t VoxelKeyIndex::Insert(const VoxelKey& key) {
   return cell;
 }
 
-void VoxelKeyIndex::Reserve(size_t n) { keys_.reserve(n); }
 
 void VoxelAccumulator::Vote(int16_t class_id, int32_t count) {
   for (int j = 0; j < n_cls; ++j)
@@ -270,11 +262,6 @@ uint32_t VoxelGrid::Merge(const Key& key, const VoxelAccumulator& points) {
   if (i == acc_.size()) acc_.emplace_back();
   acc_[i].Merge(points);
   return i;
-}
-
-void VoxelGrid::Reserve(size_t voxels) {
-  index_.Reserve(voxels);
-  acc_.reserve(voxels);
 }
 
 std::vector<uint32_t> VoxelGrid::SortedIndices() const {

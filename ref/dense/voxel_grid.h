@@ -19,6 +19,31 @@ namespace dynref::dense {
 
 using VoxelKey = std::array<int64_t, 3>;  // ordered lexicographically (KeyLess = std::array operator<)
 
+// A growing array in fixed chunks of 2^16 elements: no reallocation copies and at most one
+// partly used chunk, where a std::vector doubling its capacity holds up to twice what it uses
+// (a dense room map has millions of voxels; issue 18, peak memory).
+template <class T>
+class ChunkedVector {
+ public:
+  size_t size() const { return size_; }
+  T& operator[](size_t i) { return (*chunks_[i >> kShift])[i & kMask]; }
+  const T& operator[](size_t i) const { return (*chunks_[i >> kShift])[i & kMask]; }
+  T& emplace_back() {
+    if ((size_ & kMask) == 0) chunks_.push_back(std::make_unique<std::array<T, kChunk>>());
+    return (*this)[size_++];
+  }
+  void push_back(const T& v) { emplace_back() = v; }
+  void resize_filled(size_t n, const T& v) {  // grow to n, new elements = v
+    while (size_ < n) push_back(v);
+  }
+
+ private:
+  static constexpr int kShift = 16;
+  static constexpr size_t kChunk = size_t{1} << kShift, kMask = kChunk - 1;
+  std::vector<std::unique_ptr<std::array<T, kChunk>>> chunks_;
+  size_t size_ = 0;
+};
+
 inline bool KeyEqual(const VoxelKey& a, const VoxelKey& b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
 inline bool KeyLess(const VoxelKey& a, const VoxelKey& b) {
   return a[0] != b[0] ? a[0] < b[0] : (a[1] != b[1] ? a[1] < b[1] : a[2] < b[2]);
@@ -34,7 +59,6 @@ class KeyHash {
   uint32_t Insert(const VoxelKey& key);
   size_t size() const { return keys_.size(); }
   const VoxelKey& key(uint32_t index) const { return keys_[index]; }
-  void Reserve(size_t n);  // room for n keys without rehashing
 
  private:
   static uint64_t Hash(const VoxelKey& key);
@@ -57,7 +81,6 @@ class VoxelKeyIndex {
   uint32_t Insert(const VoxelKey& key);  // as KeyHash::Insert
   size_t size() const { return keys_.size(); }
   const VoxelKey& key(uint32_t index) const { return keys_[index]; }
-  void Reserve(size_t n);
 
  private:
   static constexpr int kCells = 64;
@@ -66,8 +89,8 @@ class VoxelKeyIndex {
   static size_t CellOf(const VoxelKey& k) { return static_cast<size_t>((k[0] & 3) << 4 | (k[1] & 3) << 2 | (k[2] & 3)); }
   uint32_t BrickId(const VoxelKey& brick) const;  // via the memo of the last brick looked up
   KeyHash bricks_;
-  std::vector<uint32_t> cells_;  // kCells per brick, kNone = empty
-  std::vector<VoxelKey> keys_;
+  ChunkedVector<uint32_t> cells_;  // kCells per brick, kNone = empty
+  ChunkedVector<VoxelKey> keys_;
   // The last brick found (a look-up cache only: never changes a result).
   mutable VoxelKey memo_key_{};
   mutable uint32_t memo_id_ = kNone;
@@ -77,7 +100,7 @@ class VoxelKeyIndex {
 // classes inline, a voxel rarely sees more; the rest in `more`).
 struct VoxelAccumulator {
   double x = 0, y = 0, z = 0;
-  double r = 0, g = 0, b = 0;
+  uint32_t r = 0, g = 0, b = 0;  // exact integer sums (a voxel holds < 2^24 points)
   int32_t n = 0;
   int16_t cls[3] = {0, 0, 0};
   int32_t cls_count[3] = {0, 0, 0};
@@ -108,7 +131,6 @@ class VoxelGrid {
   using Key = VoxelKey;
   explicit VoxelGrid(double leaf_m);  // std::invalid_argument unless leaf_m > 0
   void Add(const PointCloud& points);  // non-finite points are skipped
-  void Reserve(size_t voxels);         // room for this many voxels (speed only)
   Key KeyOf(const ColoredPoint& p) const;  // floor(p / leaf_m) per axis (finite points)
   std::vector<Key> Keys() const;           // key order (the order of Cloud())
   PointCloud Cloud() const;                // key order, as VoxelDownsample
@@ -126,7 +148,7 @@ class VoxelGrid {
   std::vector<uint32_t> SortedIndices() const;
   double leaf_m_, inv_;
   VoxelKeyIndex index_;
-  std::vector<VoxelAccumulator> acc_;
+  ChunkedVector<VoxelAccumulator> acc_;
 };
 
 // The voxel grid of one cloud (SortIntoVoxels' centroids, key order).

@@ -35,8 +35,9 @@ FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session
       mapper_(map_, camera_, inputs.config->backbone.mapper, trace),
       mapping_clock_(inputs.config->backbone.mapping_clock),
       clock_options_max_queue_(inputs.config->backbone.mapping_clock.max_queue),
-      // Module timings: the thread's CPU clock (core/cpu_clock.h), wall clock with helper threads.
-      now_(options.threads > 1 ? WallMs : ThreadCpuMs) {
+      // Module timings: the thread's CPU clock (core/cpu_clock.h), wall clock with other threads.
+      now_(options.threads > 1 || options.variant == "concurrent" ? WallMs : ThreadCpuMs),
+      concurrent_(options.variant == "concurrent") {
   // With lines / planes, one of the threads extracts them beside ORB (Process).
   extractor_.set_threads(inputs.config->backbone.structure.enabled() ? std::max(1, options.threads - 1)
                                                                      : options.threads);
@@ -48,9 +49,70 @@ FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session
   }
 }
 
-FrameLoop::~FrameLoop() { map_.RemoveObserver(&session_); }
+FrameLoop::~FrameLoop() {
+  Drain();
+  map_.RemoveObserver(&session_);
+}
+
+void FrameLoop::Drain() {
+  if (!mapper_thread_.joinable()) return;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  queue_cv_.notify_one();
+  mapper_thread_.join();
+  if (!mapper_error_.empty() && result_.exit_code == 0) {
+    result_.end_state = "error: local mapping: " + mapper_error_;
+    result_.exit_code = kExitBadInput;
+  }
+}
+
+std::string FrameLoop::ProgressLine() {
+  std::unique_lock<std::mutex> lock(mutex_, std::defer_lock);
+  if (concurrent_) lock.lock();
+  return "keyframes " + std::to_string(map_.keyframes.size()) + "  points " + std::to_string(map_.GoodPointCount()) +
+         "  lost " + std::to_string(lost_reasons_.size()) + (concurrent_ ? "  mapping queue " + std::to_string(queue_.size()) : "");
+}
+
+void FrameLoop::MapperLoop() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    queue_cv_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+    if (queue_.empty()) return;  // stopped with nothing left to map
+    const int64_t id = queue_.front();
+    queue_.pop_front();
+    mapper_busy_ = true;
+    const double t0 = WallMs();
+    try {
+      KeyFrame* kf = map_.kf(id);
+      if (kf != nullptr && !kf->bad) {
+        mapper_.ProcessKeyFrame(id);
+        FrameEdit kf_edit(kf->frame, map_, Hook::kOnMapUpdate);
+        StageContext ctx{kf_edit, nullptr, tracker_.reference_kf(), map_, camera_, trace_, true, false};
+        ctx.new_keyframe = kf;
+        ctx.new_keyframe_edit = &kf_edit;
+        session_.Run(Hook::kOnMapUpdate, ctx);
+        session_.OnMapUpdate(MapModuleContext{kf->frame, *kf, map_, camera_, trace_});
+      }
+    } catch (const std::exception& e) {
+      mapper_error_ = "keyframe " + std::to_string(id) + ": " + e.what();
+      queue_.clear();
+      stop_ = true;
+    }
+    timings_.mapping_thread.push_back(WallMs() - t0);
+    mapper_busy_ = false;
+    // Let the tracker in between two keyframes.
+    lock.unlock();
+    std::this_thread::yield();
+    lock.lock();
+  }
+}
 
 bool FrameLoop::Process(size_t k) {
+  if (concurrent_ && !mapper_thread_.joinable() && !stop_) mapper_thread_ = std::thread([this] { MapperLoop(); });
+  std::unique_lock<std::mutex> lock(mutex_, std::defer_lock);
+  if (concurrent_) lock.lock();
   const FrameEntry& e = inputs_.frames[k];
   trace_.BeginFrame(e.index, e.rgb_stamp);
   const double t0 = now_();
@@ -61,7 +123,10 @@ bool FrameLoop::Process(size_t k) {
   f.trace = &trace_;
   FrameDetections dets;
   try {
+    if (!mapper_error_.empty()) throw std::runtime_error("local mapping failed: " + mapper_error_);
+    if (concurrent_) lock.unlock();  // decoding reads no shared state
     inputs_.LoadFrame(e, options_, f, dets);
+    if (concurrent_) lock.lock();
     const double t_loaded = now_();
     // f.rgb is BGR (cv::imread). ORB-SLAM2's rgbd_tum with Camera.RGB: 1 (TUM1-3.yaml) converts
     // those BGR images with CV_RGB2GRAY, so blue gets red's weight; backbone.camera_rgb_flag
@@ -81,6 +146,10 @@ bool FrameLoop::Process(size_t k) {
     // same images and write disjoint parts of the frame, and only task 1 writes trace records,
     // so with --threads > 1 they run side by side with the same bytes as one after the other.
     double lines_ms = 0, planes_ms = 0;
+    // ORB extraction reads and writes only the frame: concurrent mapping goes on meanwhile (with
+    // lines / planes, whose extraction writes trace records, the lock stays held).
+    const bool release = concurrent_ && structure_ == nullptr;
+    if (release) lock.unlock();
     ParallelFor(structure_ != nullptr ? 2 : 1, options_.threads, [&](int task) {
       if (task == 0) {
         extractor_.Extract(f.grey, &f.keys, &f.descriptors);
@@ -90,6 +159,7 @@ bool FrameLoop::Process(size_t k) {
         structure_->Extract(f, &lines_ms, &planes_ms);
       }
     });
+    if (release) lock.lock();
     const double t1 = now_();
     trace_.FrameCount("extract", "keypoints", static_cast<int64_t>(f.N()));
     session_.Run(Hook::kAfterExtraction, ctx);
@@ -120,7 +190,11 @@ bool FrameLoop::Process(size_t k) {
         lost_reason = was_lost ? "lost: relocalisation failed" : "lost: initial pose failed";
       }
       if (ok) {
-        const mapping::MappingLoad load = mapping_clock_.LoadAt(f.stamp);
+        // Oracle: the virtual mapping clock says whether local mapping is busy; concurrent: the
+        // mapping thread itself (ORB-SLAM2's AcceptKeyFrames / KeyframesInQueue).
+        const mapping::MappingLoad load =
+            concurrent_ ? mapping::MappingLoad{!mapper_busy_ && queue_.empty(), static_cast<int>(queue_.size())}
+                        : mapping_clock_.LoadAt(f.stamp);
         trace_.FrameCount("mapping", "idle", load.idle ? 1 : 0);
         trace_.FrameCount("mapping", "queued", load.queued);
         if (tracker_.NeedNewKeyFrame(f, load.idle, load.queued, clock_options_max_queue_))
@@ -153,12 +227,17 @@ bool FrameLoop::Process(size_t k) {
       session_.Run(Hook::kOnKeyFrameCreated, ctx);
       const MapModuleContext mctx{f, *new_kf, map_, camera_, trace_};
       session_.OnKeyFrame(mctx);
-      const mapping::LocalMapperStats ms = mapper_.ProcessKeyFrame(new_kf->id);
-      ba_ms = ms.ba_ms;
-      const double cost_ms = mapping_clock_.Charge(f.stamp, ms);
-      trace_.FrameCount("mapping", "virtual_cost_us", static_cast<int64_t>(std::llround(cost_ms * 1e3)));
-      session_.Run(Hook::kOnMapUpdate, ctx);
-      session_.OnMapUpdate(mctx);
+      if (concurrent_) {
+        queue_.push_back(new_kf->id);
+        queue_cv_.notify_one();
+      } else {
+        const mapping::LocalMapperStats ms = mapper_.ProcessKeyFrame(new_kf->id);
+        ba_ms = ms.ba_ms;
+        const double cost_ms = mapping_clock_.Charge(f.stamp, ms);
+        trace_.FrameCount("mapping", "virtual_cost_us", static_cast<int64_t>(std::llround(cost_ms * 1e3)));
+        session_.Run(Hook::kOnMapUpdate, ctx);
+        session_.OnMapUpdate(mctx);
+      }
       ctx.new_keyframe_edit = nullptr;
     }
     const double t3 = now_();

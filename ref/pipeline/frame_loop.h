@@ -4,8 +4,12 @@
 // mapping clock, ref/mapping/mapping_clock.h). One FrameLoop per run; it owns the map, the tracker and
 // the local mapper, and counts what run.json reports.
 #pragma once
+#include <condition_variable>
+#include <deque>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -27,16 +31,25 @@ struct ModuleTimings {
   std::vector<double> load, extraction, tracking, mapping, ba, slam, total;
   // Part of extraction when a config enables lines / planes (issue 13): segments + LBD, AHC.
   std::vector<double> lines, planes;
+  // --variant concurrent: wall ms per keyframe in the local-mapping thread (local mapping, then
+  // the on_map_update stages and map modules).
+  std::vector<double> mapping_thread;
 };
 
 class FrameLoop {
  public:
   FrameLoop(const RunOptions& options, const RunInputs& inputs, Session& session, trace::TraceWriter& trace);
-  ~FrameLoop();
+  ~FrameLoop();  // stops the local-mapping thread if Drain was not called
   // Processes inputs.frames[k]. Bad input mid-run (an unreadable frame, a detection mask of the
   // wrong size, a stage rejecting its input) ends the run cleanly: returns false with
   // result().end_state = "error: frame N (stamp): ..." and exit code 2.
   bool Process(size_t k);
+  // --variant concurrent: local mapping works off its queue, then its thread stops; a mapping
+  // error ends the run (result().end_state). Nothing to do for the oracle. Call before reading
+  // map() etc. after the last frame.
+  void Drain();
+  // Keyframes, points and lost frames for the progress display (safe while mapping runs).
+  std::string ProgressLine();
 
   const Map& map() const { return map_; }
   const tracking::Tracker& tracker() const { return tracker_; }
@@ -49,6 +62,9 @@ class FrameLoop {
   int frames_all_excluded() const { return n_all_excluded_; }
 
  private:
+  // Local mapping of a new keyframe and the on_map_update stages / map modules: inline after the
+  // frame (oracle) or in the mapping thread (concurrent).
+  void MapperLoop();
   const RunOptions& options_;
   const RunInputs& inputs_;
   Session& session_;
@@ -68,6 +84,17 @@ class FrameLoop {
   std::vector<std::pair<int, std::string>> lost_reasons_;  // frame position -> reason
   ModuleTimings timings_;
   int n_zero_depth_ = 0, n_all_excluded_ = 0;
+  // --variant concurrent (ORB-SLAM2's LocalMapping thread). One mutex guards the map, tracker,
+  // session and trace: the tracker holds it for a frame except while it decodes the images and
+  // extracts ORB features, the mapping thread while it maps one keyframe, so the two overlap and
+  // which map state a frame sees depends on timing (the non-determinism the oracle removes).
+  bool concurrent_ = false;
+  std::mutex mutex_;
+  std::condition_variable queue_cv_;
+  std::deque<int64_t> queue_;  // keyframe ids waiting for local mapping
+  bool mapper_busy_ = false, stop_ = false;
+  std::string mapper_error_;
+  std::thread mapper_thread_;
 };
 
 }  // namespace dynref

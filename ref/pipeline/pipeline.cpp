@@ -47,10 +47,8 @@ bool IsReplaceableRunFolder(const std::string& dir) {
 
 const char* kNotARunFolder = "exists and is not a dynref run folder (no run.json); refusing to replace it";
 
-void ShowProgress(size_t k, size_t n, const FrameLoop& loop) {
-  std::cerr << "\rdynref run: frame " << (k + 1) << "/" << n << "  keyframes " << loop.map().keyframes.size()
-            << "  points " << loop.map().GoodPointCount() << "  lost " << loop.lost_reasons().size() << "   "
-            << std::flush;
+void ShowProgress(size_t k, size_t n, FrameLoop& loop) {
+  std::cerr << "\rdynref run: frame " << (k + 1) << "/" << n << "  " << loop.ProgressLine() << "   " << std::flush;
 }
 
 }  // namespace
@@ -66,6 +64,8 @@ void RunOptions::Check() const {
     CheckDetectionSpec(detector, d, "--detector");
   }
   if (threads < 1 || threads > 64) throw InputError("--threads", "must be in 1..64, got " + std::to_string(threads));
+  if (variant != "oracle" && variant != "concurrent")
+    throw InputError("--variant", "must be oracle or concurrent, got '" + variant + "'");
   if (frames.first < 0 || (!frames.open_ended() && frames.last < frames.first))
     throw InputError("dynref run", "--frames: need 0 <= A <= B");
   if (!detections_dir.empty() && !detector.empty())
@@ -111,6 +111,8 @@ RunResult RunSequence(const RunOptions& options) {
     if (progress) ShowProgress(k, n, loop);
   }
   if (progress) std::cerr << "\n";
+  loop.Drain();  // --variant concurrent: local mapping finishes its queue (a mapping error ends the run)
+  if (result.exit_code != 0 && !result.end_state.empty()) std::cerr << "dynref run: " << result.end_state << "\n";
 
   // ---- outputs: the components' files, trajectories, the trace, then run.json ----
   const SessionEnd end = session.Finish(loop.map(), dir);

@@ -35,6 +35,10 @@ struct RunOptions {
   // extraction by pyramid level, issue 18). Results and traces do not depend on it; with > 1
   // the module timings in run.json are wall-clock ms (a thread's CPU clock misses its helpers).
   int threads = 1;
+  // --variant: "oracle" (default: single-threaded, deterministic) or "concurrent" (issue 18:
+  // local mapping in its own thread as in ORB-SLAM2, so results change from run to run; diff it
+  // against the oracle with `dynref diff ORACLE CONCURRENT --summary`).
+  std::string variant = "oracle";
   // In-memory config (e.g. a sweep that changed one parameter); when set, config_path and the
   // method's default config are not read.
   std::shared_ptr<const MethodConfig> config;

@@ -144,6 +144,54 @@ bool CompareFields(const FlatRecord& g, const FlatRecord& c, const DiffOptions& 
   return differs;
 }
 
+const FlatField* FindField(const FlatRecord& r, const std::string& name) {
+  for (const FlatField& f : r.fields)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+// The summary's measures of a matched pair (README "Diff", --summary).
+void Measure(const FlatRecord& g, const FlatRecord& c, DiffResult& result) {
+  if (g.type == "pose" && g.stage == "final") {
+    double a[12], b[12];
+    for (int i = 0; i < 12; ++i) {
+      const std::string name = "T_wc[" + std::to_string(i) + "]";
+      const FlatField* x = FindField(g, name);
+      const FlatField* y = FindField(c, name);
+      if (x == nullptr || y == nullptr || x->exact || y->exact) return;
+      a[i] = x->number, b[i] = y->number;
+    }
+    // Rows r00 r01 r02 tx / r10 .. ty / r20 .. tz: translation at 3, 7, 11; the angle of
+    // R_g^T R_c from its trace.
+    const double dt = std::sqrt((a[3] - b[3]) * (a[3] - b[3]) + (a[7] - b[7]) * (a[7] - b[7]) + (a[11] - b[11]) * (a[11] - b[11]));
+    double tr = 0;
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) tr += a[4 * k + i] * b[4 * k + i];
+    const double angle = std::acos(std::clamp((tr - 1) / 2, -1.0, 1.0)) * 180.0 / M_PI;
+    result.pose_frames.push_back(g.frame);
+    result.pose_trans_m.push_back(dt);
+    result.pose_rot_deg.push_back(angle);
+  } else if (g.type == "prob") {
+    const FlatField* x = FindField(g, "after");
+    const FlatField* y = FindField(c, "after");
+    if (x != nullptr && y != nullptr && !x->exact && !y->exact)
+      result.prob_after_diff[StageLabel(g)].push_back(std::fabs(x->number - y->number));
+  }
+}
+
+// "n mean median p90 p99 max" of v (sorted in place).
+std::string Distribution(std::vector<double> v, double scale = 1.0) {
+  if (v.empty()) return "0,,,,,";
+  std::sort(v.begin(), v.end());
+  double sum = 0;
+  for (double x : v) sum += x;
+  const auto at = [&](double q) { return v[std::min(v.size() - 1, static_cast<size_t>(q * static_cast<double>(v.size())))] * scale; };
+  std::ostringstream s;
+  s << v.size() << "," << FormatDouble17(sum / static_cast<double>(v.size()) * scale) << "," << FormatDouble17(at(0.5)) << ","
+    << FormatDouble17(at(0.9)) << "," << FormatDouble17(at(0.99)) << "," << FormatDouble17(v.back() * scale);
+  return s.str();
+}
+
 }  // namespace
 
 DiffResult DiffTraces(const std::string& golden_path, const std::string& candidate_path,
@@ -200,6 +248,7 @@ DiffResult DiffTraces(const std::string& golden_path, const std::string& candida
         ++sc.missing;
         continue;
       }
+      Measure(g[i], c[static_cast<size_t>(match[i])], result);
       Divergence d = MakeDivergence(DivergenceKind::kDiffer, g[i], static_cast<double>(i));
       if (CompareFields(g[i], c[match[i]], options, result.field_errors, d)) {
         divs.push_back(std::move(d));
@@ -257,6 +306,21 @@ std::string DiffResult::Report(const std::string& golden, const std::string& can
       << "\n";
   }
   s << "  (" << exact_fields << " other float fields identical in every matched record)\n";
+  if (options.summary) {
+    s << "summary: final pose deviation over " << pose_frames.size() << " frames both runs tracked\n"
+      << "  measure,frames,mean,median,p90,p99,max\n"
+      << "  translation_mm," << Distribution(pose_trans_m, 1e3) << "\n"
+      << "  rotation_deg," << Distribution(pose_rot_deg) << "\n";
+    for (size_t i = 0; i < pose_frames.size(); ++i)
+      if (pose_trans_m[i] > 1e-3) {
+        s << "  first frame straying more than 1 mm: " << pose_frames[i] << " ("
+          << FormatDouble17(pose_trans_m[i] * 1e3) << " mm)\n";
+        break;
+      }
+    s << "summary: |after golden - after candidate| of the probability updates both runs made\n"
+         "  stage,updates,mean,median,p90,p99,max\n";
+    for (const auto& [stage, v] : prob_after_diff) s << "  " << CsvEscape(stage) << "," << Distribution(v) << "\n";
+  }
   return s.str();
 }
 

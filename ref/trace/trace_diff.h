@@ -14,6 +14,9 @@ struct DiffOptions {
   // name without an index ("start" matches "start[1]", "T_wc" matches "T_wc[3]").
   std::map<std::string, double> field_abs_tol;
   int max_report = 20;   // divergences listed in the report (the first one is always shown)
+  // --summary: how far the candidate strays (issue 18, a faster variant against the oracle):
+  // deviation of the final poses and distributions of the probability differences per stage.
+  bool summary = false;
   void Check() const;    // InputError naming the bad field
   // Parses "FIELD=X" into field_abs_tol (InputError on a bad spec).
   void AddFieldTolerance(const std::string& spec);
@@ -48,6 +51,11 @@ struct DiffResult {
   std::map<std::string, StageCounts> stages;      // stage label -> counts
   std::map<std::string, FieldError> field_errors;  // float field -> largest errors
   std::vector<std::string> notes;                  // header/footer differences
+  // For the summary, over matched records: final pose deviation per frame (translation in m,
+  // rotation in degrees) and |after_golden - after_candidate| of PROB records per stage.
+  std::vector<int64_t> pose_frames;
+  std::vector<double> pose_trans_m, pose_rot_deg;
+  std::map<std::string, std::vector<double>> prob_after_diff;
   bool footer_differs = false;
   int ExitCode() const { return total_divergences == 0 && !footer_differs ? 0 : 1; }
   std::string Report(const std::string& golden, const std::string& candidate,

@@ -1,9 +1,11 @@
 // dynref diff: identical, perturbed, missing/extra, reordered, truncated, other schema version.
 #include <catch2/catch.hpp>
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 
 #include "test_support.h"
+#include "core/format.h"
 #include "trace/trace_diff.h"
 #include "trace/trace_reader.h"
 #include "trace_sample.h"
@@ -190,4 +192,40 @@ TEST_CASE("a canonical JSONL trace (another implementation's text output) diffs 
   CHECK(d.divergences[0].field == "in.d_px");
   std::ofstream(dir + "/broken.jsonl") << "{\"frame\":0,\"type\":\"prob\"\n";
   CHECK(RunDynref("diff '" + a + "' '" + dir + "/broken.jsonl'").exit_code == 2);
+}
+
+TEST_CASE("diff --summary: final pose deviation and probability differences over the records both runs share") {
+  const std::string dir = dynref::test::ScratchDir("diff_summary");
+  // Two frames; the candidate's second pose is 3 mm off and turned 2 deg about z, its second
+  // probability update differs by 0.4, and it has an extra update the golden run lacks.
+  const auto pose = [](int frame, double ty, double deg) {
+    const double c = std::cos(deg * M_PI / 180), s = std::sin(deg * M_PI / 180);
+    const double t[12] = {c, -s, 0, 0.1, s, c, 0, ty, 0, 0, 1, 0};
+    std::string f = "{\"frame\":" + std::to_string(frame) + ",\"type\":\"pose\",\"stage\":\"final\",\"kind\":\"frame\",\"entity\":\"\",\"occurrence\":0,\"fields\":{";
+    for (int i = 0; i < 12; ++i) f += (i ? "," : "") + std::string("\"T_wc[") + std::to_string(i) + "]\":" + dynref::FormatDouble17(t[i]);
+    return f + "}}\n";
+  };
+  const auto prob = [](int frame, const std::string& entity, double after) {
+    return "{\"frame\":" + std::to_string(frame) + ",\"type\":\"prob\",\"stage\":\"s\",\"kind\":\"feature\",\"entity\":\"" + entity +
+           "\",\"occurrence\":0,\"fields\":{\"before\":0.5,\"after\":" + dynref::FormatDouble17(after) + "}}\n";
+  };
+  std::ofstream(dir + "/g.jsonl") << pose(0, 0, 0) << prob(0, "f0.1", 0.2) << pose(1, 0, 0) << prob(1, "f1.1", 0.5);
+  std::ofstream(dir + "/c.jsonl") << pose(0, 0, 0) << prob(0, "f0.1", 0.2) << pose(1, 0.003, 2) << prob(1, "f1.1", 0.9)
+                                  << prob(1, "f1.2", 0.7);
+  DiffOptions o;
+  o.summary = true;
+  const DiffResult d = DiffTraces(dir + "/g.jsonl", dir + "/c.jsonl", o);
+  REQUIRE(d.pose_frames == std::vector<int64_t>{0, 1});
+  CHECK(d.pose_trans_m[0] == 0.0);
+  CHECK(d.pose_trans_m[1] == Approx(0.003).margin(1e-12));
+  CHECK(d.pose_rot_deg[1] == Approx(2.0).margin(1e-6));
+  REQUIRE(d.prob_after_diff.at("s").size() == 2);  // the extra update is not a shared one
+  CHECK(d.prob_after_diff.at("s")[1] == Approx(0.4));
+  const std::string report = d.Report("g", "c", o);
+  CHECK(report.find("summary: final pose deviation over 2 frames") != std::string::npos);
+  CHECK(report.find("first frame straying more than 1 mm: 1") != std::string::npos);
+  CHECK(report.find("  s,2,") != std::string::npos);
+  const auto cli = RunDynref("diff '" + dir + "/g.jsonl' '" + dir + "/c.jsonl' --summary");
+  CHECK(cli.exit_code == 1);
+  CHECK(cli.output.find("translation_mm,2,") != std::string::npos);
 }
