@@ -375,8 +375,19 @@ int LocalMapper::LocalBundleAdjustment(KeyFrame& kf, LocalMapperStats* stats) {
   const Intrinsics K = camera_.Pinhole();
   timespec c0{}, c1{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c0);  // CPU time of this (single) thread
-  const optim::LocalBAResult r = optim::LocalBundleAdjust(K, kfs, pts, obs, structure_ != nullptr ? &structure : nullptr,
-                                                          options_.ba, &trace_, "localba#" + std::to_string(ba_calls_));
+  // Concurrent variant: tracking goes on while Ceres solves the copied problem; the lock is held
+  // again (also when the solve throws) before the result is written back.
+  struct Unlocked {
+    std::unique_lock<std::mutex>* lock;
+    explicit Unlocked(std::unique_lock<std::mutex>* l) : lock(l) { if (lock != nullptr) lock->unlock(); }
+    ~Unlocked() { if (lock != nullptr) lock->lock(); }
+  };
+  optim::LocalBAResult r;
+  {
+    const Unlocked unlocked(map_lock_);
+    r = optim::LocalBundleAdjust(K, kfs, pts, obs, structure_ != nullptr ? &structure : nullptr, options_.ba, &trace_,
+                                 "localba#" + std::to_string(ba_calls_));
+  }
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &c1);
   stats->ba_ms = (c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6;
   int outliers = 0;

@@ -6,6 +6,7 @@
 // frame into the keyframe) multiply the BA information.
 #pragma once
 #include <cstdint>
+#include <mutex>
 #include <vector>
 
 #include "map/map.h"
@@ -38,6 +39,10 @@ class LocalMapper {
   int ba_calls() const { return ba_calls_; }
   // Lines and planes (issue 13; nullptr = point-only). Not owned.
   void SetStructure(const structure::StructureTracker* s) { structure_ = s; }
+  // --variant concurrent (issue 18): the held lock on the map that local BA releases while Ceres
+  // solves (the problem is a copy; the result is written back under the lock again), as
+  // ORB-SLAM2's LocalMapping does. nullptr (the oracle): never released.
+  void SetMapLock(std::unique_lock<std::mutex>* lock) { map_lock_ = lock; }
 
  private:
   void ProcessNewKeyFrame(KeyFrame& kf);
@@ -55,6 +60,7 @@ class LocalMapper {
   std::vector<int64_t> recent_points_;
   int ba_calls_ = 0;
   const structure::StructureTracker* structure_ = nullptr;
+  std::unique_lock<std::mutex>* map_lock_ = nullptr;
 };
 
 }  // namespace dynref::mapping

@@ -42,6 +42,7 @@ FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session
   extractor_.set_threads(inputs.config->backbone.structure.enabled() ? std::max(1, options.threads - 1)
                                                                      : options.threads);
   map_.AddObserver(&session_);  // landmark events reach the method's components
+  if (concurrent_) trace_.SetThreadSafe(true);  // local BA logs its residuals while tracking goes on
   if (inputs.config->backbone.structure.enabled()) {
     structure_ = std::make_unique<structure::StructureTracker>(camera_, inputs.config->backbone.structure, trace);
     tracker_.SetStructure(structure_.get());
@@ -77,6 +78,7 @@ std::string FrameLoop::ProgressLine() {
 
 void FrameLoop::MapperLoop() {
   std::unique_lock<std::mutex> lock(mutex_);
+  mapper_.SetMapLock(&lock);  // local BA solves unlocked
   for (;;) {
     queue_cv_.wait(lock, [&] { return stop_ || !queue_.empty(); });
     if (queue_.empty()) return;  // stopped with nothing left to map

@@ -189,8 +189,13 @@ TraceWriter::~TraceWriter() {
   std::remove(impl_->temp_path.c_str());
 }
 
+std::unique_lock<std::mutex> TraceWriter::Guard() {
+  return thread_safe_ ? std::unique_lock<std::mutex>(mutex_) : std::unique_lock<std::mutex>();
+}
+
 void TraceWriter::BeginFrame(int frame, double timestamp) {
   if (!frames_enabled()) return;
+  const std::unique_lock<std::mutex> guard = Guard();
   Impl& w = *impl_;
   w.StartGroup(frame);
   w.StartRecord();
@@ -202,6 +207,7 @@ void TraceWriter::BeginFrame(int frame, double timestamp) {
 
 void TraceWriter::FramePose(const std::string& which, const SE3& T_wc) {
   if (!frames_enabled()) return;
+  const std::unique_lock<std::mutex> guard = Guard();
   Impl& w = *impl_;
   const uint64_t which_id = w.Intern(which);
   w.StartRecord();
@@ -215,6 +221,7 @@ void TraceWriter::FramePose(const std::string& which, const SE3& T_wc) {
 
 void TraceWriter::FrameCount(const std::string& stage, const std::string& name, int64_t value) {
   if (!frames_enabled()) return;
+  const std::unique_lock<std::mutex> guard = Guard();
   Impl& w = *impl_;
   const uint64_t stage_id = w.Intern(stage), name_id = w.Intern(name);
   w.StartRecord();
@@ -228,6 +235,7 @@ void TraceWriter::FrameCount(const std::string& stage, const std::string& name, 
 void TraceWriter::Observation(int64_t feature_index, int64_t map_point_id, double u, double v,
                               double depth_m, int octave, uint64_t descriptor_hash) {
   if (!full_enabled()) return;
+  const std::unique_lock<std::mutex> guard = Guard();
   Impl& w = *impl_;
   w.StartRecord();
   w.U8(format::kTagObs);
@@ -246,6 +254,7 @@ void TraceWriter::ProbabilityUpdate(const std::string& stage, EntityKind kind,
                                     const std::vector<NamedValue>& inputs, double before,
                                     double after) {
   if (!full_enabled()) return;
+  const std::unique_lock<std::mutex> guard = Guard();
   Impl& w = *impl_;
   const uint64_t stage_id = w.Intern(stage);
   w.scratch.clear();
@@ -271,6 +280,7 @@ void TraceWriter::Residual(const std::string& call_id, const std::string& residu
                            const std::vector<double>& residual_end, double information,
                            double weight, double robust_loss, double chi2, bool inlier) {
   if (!full_enabled()) return;
+  const std::unique_lock<std::mutex> guard = Guard();
   Impl& w = *impl_;
   const uint64_t call_ref = w.Intern(call_id), kind_ref = w.Intern(residual_kind);
   w.StartRecord();
@@ -293,6 +303,7 @@ void TraceWriter::Residual(const std::string& call_id, const std::string& residu
 void TraceWriter::Decision(const std::string& stage, EntityKind kind, const std::string& entity_id,
                            bool kept, const std::string& reason) {
   if (!full_enabled()) return;
+  const std::unique_lock<std::mutex> guard = Guard();
   Impl& w = *impl_;
   const uint64_t stage_id = w.Intern(stage), reason_id = w.Intern(reason);
   w.StartRecord();
@@ -306,6 +317,7 @@ void TraceWriter::Decision(const std::string& stage, EntityKind kind, const std:
 }
 
 void TraceWriter::Close(const std::string& end_state) {
+  const std::unique_lock<std::mutex> guard = Guard();
   if (!impl_ || impl_->closed) return;
   Impl& w = *impl_;
   w.FeedCrc();

@@ -11,6 +11,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -68,6 +69,10 @@ class TraceWriter {
   TraceWriter& operator=(const TraceWriter&) = delete;
 
   Level level() const { return level_; }
+  // Records from several threads (--variant concurrent: the local-mapping thread's residuals
+  // while tracking goes on): each call then takes a mutex, so records never interleave; which
+  // frame group a record lands in depends on timing. Off by default (the oracle pays nothing).
+  void SetThreadSafe(bool on) { thread_safe_ = on; }
   bool frames_enabled() const { return level_ >= Level::kFrames; }
   bool full_enabled() const { return level_ >= Level::kFull; }
 
@@ -98,9 +103,12 @@ class TraceWriter {
   void Close(const std::string& end_state);
 
  private:
+  std::unique_lock<std::mutex> Guard();  // locked when thread-safe, else empty
   struct Impl;
   std::unique_ptr<Impl> impl_;
   Level level_;
+  bool thread_safe_ = false;
+  std::mutex mutex_;
 };
 
 }  // namespace dynref::trace
