@@ -57,7 +57,23 @@ print(f"{j['frames_tracked']}/{j['frames_processed']} frames tracked, {j['keyfra
 PY
     echo
     echo '```'
-    "$DYNREF" diff "$oracle" "$c" --summary --max-report 3 | grep -v '^  T_wc\|^  in\.\|^  start\|^  end\[' || true
+    # Optimiser calls (localba#17, track.pose#2) summed per kind; per-field error rows of poses,
+    # inputs and residual vectors left out (the summary covers them).
+    "$DYNREF" diff "$oracle" "$c" --summary --max-report 3 | python3 -c '
+import re, sys
+calls, out = {}, []
+for line in sys.stdin:
+    m = re.match(r"  ([\w.]+)#\d+,(\d+),(\d+),(\d+),(\d+),(\d+)$", line)
+    if m:
+        if m.group(1) not in calls:
+            calls[m.group(1)] = [0] * 5
+            out.append(("calls", m.group(1)))
+        calls[m.group(1)] = [a + int(b) for a, b in zip(calls[m.group(1)], m.groups()[1:])]
+    elif not re.match(r"  (T_wc|in\.|start|end)", line):
+        out.append(("line", line))
+for kind, v in out:
+    print("  " + v + "#*," + ",".join(map(str, calls[v])) if kind == "calls" else v, end="" if kind == "line" else "\n")
+' || true
     echo '```'
   done
 } > "$REPORT.tmp"

@@ -1,7 +1,10 @@
 #include "geometry/lk_pairs.h"
 
+#include "core/parallel.h"
+
 #include <opencv2/calib3d.hpp>
 #include <opencv2/video/tracking.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <stdexcept>
@@ -14,6 +17,7 @@ void LkOptions::Check() const {
   if (max_iterations < 1) throw std::invalid_argument("max_iterations must be >= 1");
   if (!(epsilon > 0)) throw std::invalid_argument("epsilon must be > 0");
   if (border_px < 1) throw std::invalid_argument("border_px must be >= 1 (3x3 patch)");
+  if (threads < 1) throw std::invalid_argument("threads must be >= 1");
   if (!(patch_sad_max >= 0)) throw std::invalid_argument("patch_sad_max must be >= 0");
 }
 
@@ -25,14 +29,25 @@ std::vector<LkPair> TrackBackward(const cv::Mat& prev_grey, const cv::Mat& cur_g
     throw std::invalid_argument("TrackBackward: images must be CV_8U of equal size");
   std::vector<LkPair> pairs(points_cur.size());
   if (points_cur.empty()) return pairs;
-  std::vector<cv::Point2f> points_prev;
-  std::vector<uchar> status;
-  std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(
-      cur_grey, prev_grey, points_cur, points_prev, status, err,
-      cv::Size(options.window_px, options.window_px), options.max_level,
-      cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.max_iterations,
-                       options.epsilon));
+  const size_t n = points_cur.size();
+  std::vector<cv::Point2f> points_prev(n);
+  std::vector<uchar> status(n);
+  // Slices of at least 64 points (below that the second pyramid costs more than it saves).
+  const int slices = std::max(1, std::min(options.threads, static_cast<int>(n / 64)));
+  ParallelFor(slices, options.threads, [&](int s) {
+    const size_t begin = n * static_cast<size_t>(s) / static_cast<size_t>(slices);
+    const size_t end = n * static_cast<size_t>(s + 1) / static_cast<size_t>(slices);
+    const std::vector<cv::Point2f> in(points_cur.begin() + static_cast<std::ptrdiff_t>(begin),
+                                      points_cur.begin() + static_cast<std::ptrdiff_t>(end));
+    std::vector<cv::Point2f> out;
+    std::vector<uchar> st;
+    std::vector<float> err;
+    cv::calcOpticalFlowPyrLK(
+        cur_grey, prev_grey, in, out, st, err, cv::Size(options.window_px, options.window_px), options.max_level,
+        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, options.max_iterations, options.epsilon));
+    std::copy(out.begin(), out.end(), points_prev.begin() + static_cast<std::ptrdiff_t>(begin));
+    std::copy(st.begin(), st.end(), status.begin() + static_cast<std::ptrdiff_t>(begin));
+  });
   for (size_t i = 0; i < points_cur.size(); ++i) {
     LkPair& p = pairs[i];
     p.p_cur = points_cur[i];

@@ -18,6 +18,10 @@ struct LkOptions {
   double epsilon = 0.01;
   int border_px = 5;          // b_edge, not stated: DS-SLAM limit_edge_corner
   double patch_sad_max = 2120;  // c_patch on a 3x3 grey patch, not stated: DS-SLAM limit_of_check
+  // Not a parameter: the run's --threads. The points are tracked in that many slices side by
+  // side (each point's flow depends on the images and the point only, so the pairs are the same
+  // for every count; each slice builds its own pyramids).
+  int threads = 1;
   void Check() const;
 };
 
@@ -33,7 +37,7 @@ struct LkPair {
 };
 
 // Tracks `points_cur` from cur_grey back into prev_grey (both CV_8U, same size). No RNG;
-// deterministic given cv::setNumThreads(0).
+// deterministic given cv::setNumThreads(0), and the same for any options.threads.
 std::vector<LkPair> TrackBackward(const cv::Mat& prev_grey, const cv::Mat& cur_grey,
                                   const std::vector<cv::Point2f>& points_cur,
                                   const LkOptions& options);

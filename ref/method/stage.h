@@ -30,6 +30,9 @@ struct StageContext {
   // keyframe's own copy of the frame (what local mapping and local BA use).
   const KeyFrame* new_keyframe = nullptr;
   FrameEdit* new_keyframe_edit = nullptr;
+  // The run's --threads: a stage may split work over this many threads when the result stays
+  // bit-identical (e.g. Lucas-Kanade over slices of points).
+  int threads = 1;
 };
 
 class Stage {

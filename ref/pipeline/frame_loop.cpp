@@ -94,6 +94,7 @@ void FrameLoop::MapperLoop() {
         StageContext ctx{kf_edit, nullptr, tracker_.reference_kf(), map_, camera_, trace_, true, false};
         ctx.new_keyframe = kf;
         ctx.new_keyframe_edit = &kf_edit;
+        ctx.threads = options_.threads;
         session_.Run(Hook::kOnMapUpdate, ctx);
         session_.OnMapUpdate(MapModuleContext{kf->frame, *kf, map_, camera_, trace_});
       }
@@ -140,6 +141,7 @@ bool FrameLoop::Process(size_t k) {
     const bool initialised = tracker_.state() != tracking::TrackState::kNotInitialised;
     FrameEdit edit(f, map_, Hook::kBeforeExtraction);
     StageContext ctx{edit, prev, tracker_.reference_kf(), map_, camera_, trace_, initialised, was_lost};
+    ctx.threads = options_.threads;
     const cv::Size grey_size = f.grey.size();
     session_.Run(Hook::kBeforeExtraction, ctx);
     if (f.grey.type() != CV_8U || f.grey.size() != grey_size)

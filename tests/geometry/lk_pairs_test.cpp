@@ -39,6 +39,33 @@ TEST_CASE("lk pairs: backward tracking recovers a known shift") {
   for (size_t i = 0; i < pairs.size(); ++i) CHECK(again[i].p_prev == pairs[i].p_prev);
 }
 
+TEST_CASE("lk pairs: the same pairs for any thread count (slices of points side by side)") {
+  const cv::Mat prev = Texture(320, 240);
+  cv::Mat cur;
+  const cv::Mat warp = (cv::Mat_<double>(2, 3) << 1.01, 0.02, 2.5, -0.01, 0.99, 1.5);
+  cv::warpAffine(prev, cur, warp, prev.size(), cv::INTER_LINEAR, cv::BORDER_REFLECT);
+  std::vector<cv::Point2f> pts;
+  for (int i = 0; i < 300; ++i) pts.emplace_back(5.f + static_cast<float>((i * 37) % 310), 5.f + static_cast<float>((i * 53) % 230));
+  LkOptions one;
+  const std::vector<LkPair> ref = TrackBackward(prev, cur, pts, one);
+  int tracked = 0;
+  for (const LkPair& p : ref) tracked += p.tracked;
+  CHECK(tracked > 250);
+  for (int threads : {2, 3, 4}) {
+    LkOptions o;
+    o.threads = threads;
+    const std::vector<LkPair> got = TrackBackward(prev, cur, pts, o);
+    REQUIRE(got.size() == ref.size());
+    for (size_t i = 0; i < ref.size(); ++i) {
+      CHECK(got[i].p_prev == ref[i].p_prev);
+      CHECK(got[i].tracked == ref[i].tracked);
+    }
+  }
+  LkOptions bad;
+  bad.threads = 0;
+  CHECK_THROWS_AS(TrackBackward(prev, cur, pts, bad), std::invalid_argument);
+}
+
 TEST_CASE("lk pairs: pruning by border, patch SAD and mask") {
   const cv::Mat prev = Texture(100, 80);
   const cv::Mat cur = prev.clone();

@@ -171,6 +171,28 @@ TEST_CASE("run: --threads 1, 2 and 4 give the same trajectory and trace dump (is
   CHECK_THROWS_AS(bad.Check(), InputError);
 }
 
+TEST_CASE("run: --threads 2 gives sgdo the same trace (Lucas-Kanade over slices of points, issue 18)") {
+  const std::string dir = test::ScratchDir("run_threads_sgdo");
+  REQUIRE(test::RunDynref("synth --preset walking_xyz --frames 6 --seed 1 --detections yolo-like --out " +
+                          test::Quote(dir + "/seq")).exit_code == 0);
+  std::string dump1;
+  for (int threads : {1, 2}) {
+    const std::string out = dir + "/run" + std::to_string(threads);
+    REQUIRE(test::RunDynref("run --method sgdo --no-progress --trace full --threads " + std::to_string(threads) +
+                            " --sequence " + test::Quote(dir + "/seq") + " --detections " +
+                            test::Quote(dir + "/seq/detections/yolo-like") + " --out " + test::Quote(out)).exit_code == 0);
+    const auto d = test::RunDynref("trace dump " + test::Quote(out + "/trace.dtr") + " --stage sgdo.coarse");
+    REQUIRE(d.exit_code == 0);
+    if (threads == 1) {
+      dump1 = d.output;
+      REQUIRE(dump1.size() > 1000);  // the coarse stage's LK pairs are in the trace
+    } else {
+      CHECK(d.output == dump1);
+      CHECK(test::ReadFileBytes(out + "/trajectory.txt") == test::ReadFileBytes(dir + "/run1/trajectory.txt"));
+    }
+  }
+}
+
 TEST_CASE("run: fewer than 2 frames ends cleanly with exit 2 and says why") {
   const std::string out = test::ScratchDir("run_short");
   const auto r = test::RunDynref("run --sequence " + test::SourcePath(kSeq) + " --out " + out + " --frames 0-0");

@@ -68,6 +68,7 @@ void VoteStage::Run(StageContext& ctx) {
   if (prev != nullptr && !prev->grey.empty() && !prev->depth_m.empty() && !candidates.empty() && !m.instance_ids.empty()) {
     std::vector<cv::Point2f> pts;
     for (int i : candidates) pts.push_back(f.keys[size_t(i)].pt);
+    lk_.threads = ctx.threads;
     std::vector<geometry::LkPair> pairs = geometry::TrackBackward(prev->grey, f.grey, pts, lk_);
     for (size_t c = 0; c < pairs.size(); ++c) geometry::PrunePair(prev->grey, f.grey, instance_of[c] != 0, lk_, pairs[c]);
     std::vector<cv::Point2f> prev_un, cur_un;  // pose and F on undistorted pixels (depth looked up raw)

@@ -83,6 +83,7 @@ void CoarseStage::Run(StageContext& ctx) {
   if (prev != nullptr && !prev->grey.empty() && !candidates.empty()) {
     std::vector<cv::Point2f> pts;
     for (int i : candidates) pts.push_back(f.keys[i].pt);
+    lk_.threads = ctx.threads;
     pairs = geometry::TrackBackward(prev->grey, f.grey, pts, lk_);
     for (size_t c = 0; c < candidates.size(); ++c)
       geometry::PrunePair(prev->grey, f.grey, inputs[candidates[c]].instance != 0, lk_, pairs[c]);
