@@ -76,6 +76,7 @@ KeyFrame* Map::AddKeyFrame(std::unique_ptr<KeyFrame> kf) {
   kf->id = next_kf_id_++;
   KeyFrame* raw = kf.get();
   keyframes[raw->id] = std::move(kf);
+  kf_by_id_.push_back(raw);  // id == kf_by_id_.size() - 1
   return raw;
 }
 
@@ -88,6 +89,7 @@ MapPoint* Map::NewMapPoint(const Eigen::Vector3d& X_w, int64_t ref_kf, int frame
   p->first_frame = frame_index;
   MapPoint* raw = p.get();
   points[raw->id] = std::move(p);
+  mp_by_id_.push_back(raw);  // id == mp_by_id_.size() - 1
   Notify(LandmarkEvent::Kind::kCreated, raw->id);
   return raw;
 }

@@ -80,10 +80,13 @@ class Map {
 
   KeyFrame* AddKeyFrame(std::unique_ptr<KeyFrame> kf);
   MapPoint* NewMapPoint(const Eigen::Vector3d& X_w, int64_t ref_kf, int frame_index);
-  KeyFrame* kf(int64_t id) { auto it = keyframes.find(id); return it == keyframes.end() ? nullptr : it->second.get(); }
-  const KeyFrame* kf(int64_t id) const { auto it = keyframes.find(id); return it == keyframes.end() ? nullptr : it->second.get(); }
-  MapPoint* mp(int64_t id) { auto it = points.find(id); return it == points.end() ? nullptr : it->second.get(); }
-  const MapPoint* mp(int64_t id) const { auto it = points.find(id); return it == points.end() ? nullptr : it->second.get(); }
+  // Look-ups by id through arrays indexed by id (ids are 0, 1, 2, ... and keyframes / points are
+  // never erased, only marked bad): the tracker looks up tens of thousands per frame, and a tree
+  // walk per look-up made tracking cost grow with the map (issue 18).
+  KeyFrame* kf(int64_t id) { return ById(kf_by_id_, id); }
+  const KeyFrame* kf(int64_t id) const { return ById(kf_by_id_, id); }
+  MapPoint* mp(int64_t id) { return ById(mp_by_id_, id); }
+  const MapPoint* mp(int64_t id) const { return ById(mp_by_id_, id); }
   // Valid (exists and not bad) map point or nullptr.
   MapPoint* good_mp(int64_t id) { MapPoint* p = mp(id); return p && !p->bad ? p : nullptr; }
   const MapPoint* good_mp(int64_t id) const { const MapPoint* p = mp(id); return p && !p->bad ? p : nullptr; }
@@ -127,6 +130,12 @@ class Map {
   void RemoveObserver(LandmarkObserver* observer);
 
  private:
+  template <class T>
+  static T* ById(const std::vector<T*>& v, int64_t id) {
+    return id >= 0 && static_cast<uint64_t>(id) < v.size() ? v[static_cast<size_t>(id)] : nullptr;
+  }
+  std::vector<KeyFrame*> kf_by_id_;  // keyframes[id].get(), added with them
+  std::vector<MapPoint*> mp_by_id_;  // points[id].get()
   void Notify(LandmarkEvent::Kind kind, int64_t mp_id, int64_t by_id = -1);
   void NotifyTyped(LandmarkEvent::Kind kind, LandmarkType type, int64_t id, int64_t by_id = -1);
   void EraseStructureObservations(KeyFrame& k);  // keyframe culling
