@@ -6,6 +6,13 @@ using namespace dynref;
 using namespace dynref::dense;
 
 namespace {
+// A fronto-parallel wall 2 m in front of the synthetic camera, one colour.
+struct Wall {
+  dynref::Camera cam = dynref::CameraPreset("synthetic");
+  cv::Mat bgr = cv::Mat(cam.height, cam.width, CV_8UC3, cv::Scalar(40, 80, 120));
+  cv::Mat depth = cv::Mat(cam.height, cam.width, CV_32F, cv::Scalar(2.0f));
+};
+
 Camera SmallCamera() {
   Camera c;
   c.width = 64, c.height = 48;
@@ -150,9 +157,10 @@ TEST_CASE("dense map: incremental filtering = SOR of new points against the map 
 TEST_CASE("dense map: incremental mode keeps accepted points and matches full mode on a clean static scene") {
   using namespace dynref;
   using namespace dynref::dense;
-  const Camera cam = CameraPreset("synthetic");
-  cv::Mat bgr(cam.height, cam.width, CV_8UC3, cv::Scalar(40, 80, 120));
-  cv::Mat depth(cam.height, cam.width, CV_32F, cv::Scalar(2.0f));
+  const Wall scene;
+  const Camera& cam = scene.cam;
+  const cv::Mat& bgr = scene.bgr;
+  cv::Mat depth = scene.depth.clone();
   DenseMapOptions o;
   o.pixel_stride = 8, o.keyframe_leaf_m = 0.05, o.global_leaf_m = 0.05, o.filter_every_keyframes = 2;
   o.sor.k = 8;
@@ -197,9 +205,10 @@ TEST_CASE("dense map: incremental filter keeps voxels the map holds, judges new 
   // point 10 cm in front of it. The wall's voxels are known to the map or touch it (the rim) and
   // join it, nothing of the map is removed again, and the stray (a new voxel 5 voxels from any
   // other, judged by SOR) goes. (A stray much farther away would inflate SOR's sigma, as in PCL.)
-  const Camera cam = CameraPreset("synthetic");
-  cv::Mat bgr(cam.height, cam.width, CV_8UC3, cv::Scalar(40, 80, 120));
-  cv::Mat depth(cam.height, cam.width, CV_32F, cv::Scalar(2.0f));
+  const Wall scene;
+  const Camera& cam = scene.cam;
+  const cv::Mat& bgr = scene.bgr;
+  cv::Mat depth = scene.depth.clone();
   DenseMapOptions o;
   o.pixel_stride = 4, o.keyframe_leaf_m = 0.02, o.global_leaf_m = 0.02, o.filter_every_keyframes = 1;
   o.sor.k = 8, o.incremental = true;
