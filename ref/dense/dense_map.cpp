@@ -142,15 +142,10 @@ KeyframeInsertStats DenseMap::AddKeyframe(const cv::Mat& bgr, const cv::Mat& dep
 }
 
 bool DenseMap::TouchesMap(const VoxelKey& v) const {
-  static constexpr int kFace[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
-  for (const auto& d : kFace)
-    if (grid_.Find({v[0] + d[0], v[1] + d[1], v[2] + d[2]}) != VoxelKeyIndex::kNone) return true;
   for (int64_t dx = -1; dx <= 1; ++dx)
     for (int64_t dy = -1; dy <= 1; ++dy)
       for (int64_t dz = -1; dz <= 1; ++dz)
-        if (std::abs(dx) + std::abs(dy) + std::abs(dz) >= 2 &&
-            grid_.Find({v[0] + dx, v[1] + dy, v[2] + dz}) != VoxelKeyIndex::kNone)
-          return true;
+        if ((dx | dy | dz) != 0 && grid_.Find({v[0] + dx, v[1] + dy, v[2] + dz}) != VoxelKeyIndex::kNone) return true;
   return false;
 }
 
@@ -176,14 +171,11 @@ int64_t DenseMap::FilterBatch() {
   // trace and is judged afresh when observed again.
   const SortedVoxels batch = SortIntoVoxels(pending_, options_.global_leaf_m);
   pending_.clear();
-  const bool seed = grid_.size() == 0;
-  std::vector<uint8_t> judged_flag(batch.size(), 0);
-  std::vector<uint32_t> judged;
+  // Decided against the map as it was before this batch, then merged.
+  std::vector<uint32_t> joining, judged;
   for (uint32_t v = 0; v < batch.size(); ++v)
-    if (seed || (grid_.Find(batch.keys[v]) == VoxelKeyIndex::kNone && !TouchesMap(batch.keys[v])))
-      judged.push_back(v), judged_flag[v] = 1;
-  for (uint32_t v = 0; v < batch.size(); ++v)
-    if (!judged_flag[v]) MergeIntoMap(batch.keys[v], batch.acc[v]);
+    (grid_.Find(batch.keys[v]) != VoxelKeyIndex::kNone || TouchesMap(batch.keys[v]) ? joining : judged).push_back(v);
+  for (uint32_t v : joining) MergeIntoMap(batch.keys[v], batch.acc[v]);
   int64_t removed = 0;
   if (judged.empty()) return 0;
   const std::vector<double> mean_dist = JudgedStatistic(batch, judged);

@@ -57,11 +57,15 @@ std::vector<double> MeanKnnDistances(const PointCloud& query, const PointCloud& 
     if (capped)
       for (float& v : sorted) v = std::min(v, cap2);
     std::sort(sorted.begin(), sorted.end());
-    double sum = 0;
-    for (size_t j = 1; j < found; ++j) sum += std::sqrt(static_cast<double>(sorted[j]));
-    mean_dist[i] = found > 1 ? sum / static_cast<double>(found - 1) : 0.0;
+    mean_dist[i] = found > 1 ? MeanOfAscendingDistances(sorted.data() + 1, sorted.data() + found) : 0.0;
   }
   return mean_dist;
+}
+
+double MeanOfAscendingDistances(const float* begin, const float* end) {
+  double sum = 0;
+  for (const float* d2 = begin; d2 != end; ++d2) sum += std::sqrt(static_cast<double>(*d2));
+  return sum / static_cast<double>(end - begin);
 }
 
 void SorStatistics::Add(const std::vector<double>& mean_dist) {

@@ -41,6 +41,11 @@ std::vector<uint8_t> StatisticalOutlierMask(const PointCloud& query, const Point
 std::vector<double> MeanKnnDistances(const PointCloud& query, const PointCloud& context, int k,
                                      double cap_m = std::numeric_limits<double>::infinity());
 
+// Mean of the square roots of ascending squared distances [begin, end) (non-empty), summed in
+// double in that order: the one summation both k-NN paths (k-d tree, VoxelBricks) use, so their
+// statistics agree bit for bit.
+double MeanOfAscendingDistances(const float* begin, const float* end);
+
 // Running mean and sample variance of SOR's mean k-NN distances: the dense map's incremental mode
 // keeps those of the map's voxels, so new voxels are judged against the whole cloud's
 // distribution (what SOR over the whole cloud would use) without recomputing it.

@@ -1,5 +1,7 @@
 #include "dense/voxel_bricks.h"
 
+#include "dense/filters.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -35,7 +37,7 @@ void VoxelBricks::Move(uint32_t id, const std::array<float, 3>& pos) {
 
 const std::vector<VoxelBricks::Point>* VoxelBricks::Find(const VoxelKey& brick) const {
   const uint32_t b = bricks_.Find(brick);
-  return b == VoxelKeyIndex::kNone ? nullptr : &members_[b];
+  return b == KeyHash::kNone ? nullptr : &members_[b];
 }
 
 std::vector<double> CappedMeanKnnDistances(const VoxelBricks& queries, const std::vector<const VoxelBricks*>& others,
@@ -109,9 +111,7 @@ std::vector<double> CappedMeanKnnDistances(const VoxelBricks& queries, const std
       }
       while (near.size() < kk) near.push_back(cap2);
       std::sort(near.begin(), near.end());
-      double sum = 0;
-      for (float v : near) sum += std::sqrt(static_cast<double>(v));
-      out[self.id] = sum / static_cast<double>(kk);
+      out[self.id] = MeanOfAscendingDistances(near.data(), near.data() + kk);
     }
   }
   return out;

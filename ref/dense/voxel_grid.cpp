@@ -132,9 +132,8 @@ std::array<float, 3> VoxelAccumulator::Position() const {
 
 ColoredPoint VoxelAccumulator::Centroid() const {
   ColoredPoint p;
-  p.x = static_cast<float>(x / n);
-  p.y = static_cast<float>(y / n);
-  p.z = static_cast<float>(z / n);
+  const std::array<float, 3> pos = Position();
+  p.x = pos[0], p.y = pos[1], p.z = pos[2];
   p.r = RoundColour(r, n);
   p.g = RoundColour(g, n);
   p.b = RoundColour(b, n);

@@ -140,7 +140,6 @@ class VoxelGrid {
   const Key& KeyAt(uint32_t index) const { return index_.key(index); }
   ColoredPoint CentroidAt(uint32_t index) const { return acc_[index].Centroid(); }
   std::array<float, 3> PositionAt(uint32_t index) const { return acc_[index].Position(); }
-  int32_t CountAt(uint32_t index) const { return acc_[index].n; }  // points in the voxel
   // Adds a voxel's points (an accumulator of the same leaf) in one step; returns its index.
   uint32_t Merge(const Key& key, const VoxelAccumulator& points);
 
