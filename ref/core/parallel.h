@@ -38,4 +38,17 @@ inline void ParallelFor(int n_tasks, int threads, const std::function<void(int)>
     if (e) std::rethrow_exception(e);
 }
 
+// Items 0..n-1 in fixed chunks of `chunk` (one task each) on up to `threads` threads; `item(i)`
+// must write only item i's own output, so the result is the same for any thread count.
+inline void ParallelForEach(size_t n, int threads, const std::function<void(size_t)>& item, size_t chunk = 64) {
+  if (threads <= 1 || n <= chunk) {
+    for (size_t i = 0; i < n; ++i) item(i);
+    return;
+  }
+  ParallelFor(static_cast<int>((n + chunk - 1) / chunk), threads, [&](int c) {
+    const size_t end = std::min(n, (static_cast<size_t>(c) + 1) * chunk);
+    for (size_t i = static_cast<size_t>(c) * chunk; i < end; ++i) item(i);
+  });
+}
+
 }  // namespace dynref

@@ -6,6 +6,8 @@
 #include <opencv2/calib3d.hpp>
 #include <stdexcept>
 
+#include "core/parallel.h"
+
 namespace dynref::dense {
 
 void DenseMapOptions::Check() const {
@@ -67,7 +69,7 @@ cv::Mat UndistortedRays(const Camera& camera) {
 
 PointCloud BackProjectKeyframe(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& exclude,
                                const cv::Mat& class_labels, const Camera& camera,
-                               const DenseMapOptions& options, const cv::Mat& rays) {
+                               const DenseMapOptions& options, const cv::Mat& rays, int threads) {
   options.Check();
   if (!rays.empty() && (rays.type() != CV_64FC2 || rays.size() != depth_m.size()))
     throw std::invalid_argument("BackProjectKeyframe: rays must be CV_64FC2 of image size");
@@ -77,30 +79,43 @@ PointCloud BackProjectKeyframe(const cv::Mat& bgr, const cv::Mat& depth_m, const
     throw std::invalid_argument("BackProjectKeyframe: exclude mask must be CV_8U of image size");
   if (!class_labels.empty() && (class_labels.type() != CV_16S || class_labels.size() != depth_m.size()))
     throw std::invalid_argument("BackProjectKeyframe: class labels must be CV_16S of image size");
-  PointCloud out;
   const int s = options.pixel_stride;
-  for (int v = 0; v < depth_m.rows; v += s) {
-    for (int u = 0; u < depth_m.cols; u += s) {
-      const float z = depth_m.at<float>(v, u);
-      if (!(z >= options.min_depth_m && z <= options.max_depth_m)) continue;
-      if (!exclude.empty() && exclude.at<uint8_t>(v, u) != 0) continue;
-      ColoredPoint p;
-      if (rays.empty()) {
-        p.x = static_cast<float>((u - camera.cx) * z / camera.fx);
-        p.y = static_cast<float>((v - camera.cy) * z / camera.fy);
-      } else {
-        const cv::Vec2d r = rays.at<cv::Vec2d>(v, u);
-        p.x = static_cast<float>(r[0] * z);
-        p.y = static_cast<float>(r[1] * z);
+  const int sampled_rows = (depth_m.rows + s - 1) / s;
+  // Bands of kBand sampled rows, one task each (one band for one thread: no concatenation).
+  const int kBand = threads <= 1 ? std::max(1, sampled_rows) : 16;
+  std::vector<PointCloud> bands(static_cast<size_t>((sampled_rows + kBand - 1) / kBand));
+  ParallelFor(static_cast<int>(bands.size()), threads, [&](int band) {
+    PointCloud& out = bands[static_cast<size_t>(band)];
+    const int v_end = std::min(depth_m.rows, (band + 1) * kBand * s);
+    for (int v = band * kBand * s; v < v_end; v += s) {
+      for (int u = 0; u < depth_m.cols; u += s) {
+        const float z = depth_m.at<float>(v, u);
+        if (!(z >= options.min_depth_m && z <= options.max_depth_m)) continue;
+        if (!exclude.empty() && exclude.at<uint8_t>(v, u) != 0) continue;
+        ColoredPoint p;
+        if (rays.empty()) {
+          p.x = static_cast<float>((u - camera.cx) * z / camera.fx);
+          p.y = static_cast<float>((v - camera.cy) * z / camera.fy);
+        } else {
+          const cv::Vec2d r = rays.at<cv::Vec2d>(v, u);
+          p.x = static_cast<float>(r[0] * z);
+          p.y = static_cast<float>(r[1] * z);
+        }
+        p.z = z;
+        const cv::Vec3b c = bgr.at<cv::Vec3b>(v, u);
+        p.b = c[0], p.g = c[1], p.r = c[2];
+        if (!class_labels.empty()) p.class_id = class_labels.at<int16_t>(v, u);
+        if (options.colour_by_class) ClassColour(p.class_id, p.r, p.g, p.b);
+        out.push_back(p);
       }
-      p.z = z;
-      const cv::Vec3b c = bgr.at<cv::Vec3b>(v, u);
-      p.b = c[0], p.g = c[1], p.r = c[2];
-      if (!class_labels.empty()) p.class_id = class_labels.at<int16_t>(v, u);
-      if (options.colour_by_class) ClassColour(p.class_id, p.r, p.g, p.b);
-      out.push_back(p);
     }
-  }
+  });
+  if (bands.size() == 1) return std::move(bands[0]);
+  size_t n = 0;
+  for (const PointCloud& b : bands) n += b.size();
+  PointCloud out;
+  out.reserve(n);
+  for (const PointCloud& b : bands) out.insert(out.end(), b.begin(), b.end());
   return out;
 }
 
@@ -115,7 +130,7 @@ KeyframeInsertStats DenseMap::AddKeyframe(const cv::Mat& bgr, const cv::Mat& dep
                                           const Camera& camera, const SE3& T_wc) {
   KeyframeInsertStats st;
   if (!rays_ready_) rays_ = UndistortedRays(camera), rays_ready_ = true;  // the camera of a run is fixed
-  const PointCloud local = BackProjectKeyframe(bgr, depth_m, exclude, class_labels, camera, options_, rays_);
+  const PointCloud local = BackProjectKeyframe(bgr, depth_m, exclude, class_labels, camera, options_, rays_, threads_);
   st.back_projected = static_cast<int64_t>(local.size());
   // Single-frame voxel downsampling in the camera frame, then transform to world.
   const PointCloud voxel = VoxelDownsample(local, options_.keyframe_leaf_m);
@@ -203,7 +218,7 @@ std::vector<double> DenseMap::JudgedStatistic(const SortedVoxels& batch, const s
   if (grid_.size() + judged.size() <= static_cast<size_t>(k)) return {};  // as MeanKnnDistances
   VoxelBricks judged_bricks(options_.global_leaf_m, options_.context_margin_m);
   for (uint32_t v : judged) judged_bricks.Add(batch.keys[v], batch.acc[v].Position());
-  return CappedMeanKnnDistances(judged_bricks, {&bricks_}, k, options_.context_margin_m);
+  return CappedMeanKnnDistances(judged_bricks, {&bricks_}, k, options_.context_margin_m, threads_);
 }
 
 int64_t DenseMap::FilterGlobal() {

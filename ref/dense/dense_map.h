@@ -47,9 +47,11 @@ bool ClassColour(int class_id, uint8_t& r, uint8_t& g, uint8_t& b);
 // exclude CV_8U (non-zero = dynamic, skipped) or empty, class_labels CV_16S (-1 none) or empty.
 // Raw pixel (u, v) is back-projected along its undistorted ray: rays(v, u) = (x, y) with
 // P = z (x, y, 1) (UndistortedRays); without distortion (empty rays) the pinhole model.
+// threads (the run's --threads): bands of rows side by side, concatenated in row order (the same
+// cloud for any count).
 PointCloud BackProjectKeyframe(const cv::Mat& bgr, const cv::Mat& depth_m, const cv::Mat& exclude,
                                const cv::Mat& class_labels, const Camera& camera,
-                               const DenseMapOptions& options, const cv::Mat& rays = cv::Mat());
+                               const DenseMapOptions& options, const cv::Mat& rays = cv::Mat(), int threads = 1);
 
 // CV_64FC2 normalised undistorted coordinates of every raw pixel (cv::undistortPoints, once per
 // camera); empty when the camera has no distortion (issue 21 defect 4: TUM fr1/fr2).
@@ -74,6 +76,9 @@ class DenseMap {
   // The map. Incremental mode: complete only after Finish() (the grid is not copied out per keyframe).
   const PointCloud& cloud() const { return cloud_; }
   int keyframes() const { return keyframes_; }
+  // The run's --threads for back-projection and the incremental filter's neighbour statistics;
+  // the map is the same bytes for any count.
+  void set_threads(int threads) { threads_ = threads; }
 
  private:
   int64_t FilterGlobal();
@@ -92,6 +97,7 @@ class DenseMap {
   PointCloud cloud_;
   int keyframes_ = 0;
   int since_filter_ = 0;
+  int threads_ = 1;
 };
 
 }  // namespace dynref::dense

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/parallel.h"
+
 namespace dynref::dense {
 namespace {
 
@@ -41,7 +43,7 @@ const std::vector<VoxelBricks::Point>* VoxelBricks::Find(const VoxelKey& brick) 
 }
 
 std::vector<double> CappedMeanKnnDistances(const VoxelBricks& queries, const std::vector<const VoxelBricks*>& others,
-                                           int k, double cap_m) {
+                                           int k, double cap_m, int threads) {
   if (k < 1) throw std::invalid_argument("CappedMeanKnnDistances: k must be >= 1");
   for (const VoxelBricks* o : others)
     if (o->voxels_per_brick() != queries.voxels_per_brick() || o->leaf_m() != queries.leaf_m())
@@ -51,7 +53,6 @@ std::vector<double> CappedMeanKnnDistances(const VoxelBricks& queries, const std
   std::vector<const VoxelBricks*> sets = {&queries};
   sets.insert(sets.end(), others.begin(), others.end());
   std::vector<double> out(queries.size());
-  std::vector<float> near, far;
   const double reach2 = (cap_m + 1e-4) * (cap_m + 1e-4);
   // A brick around the query brick: its points and its extent in metres, grown by 0.1 mm for the
   // float rounding of centroids on a voxel face. A brick farther than the search radius from a
@@ -61,59 +62,66 @@ std::vector<double> CappedMeanKnnDistances(const VoxelBricks& queries, const std
     const VoxelBricks::Point* end;
     double lo[3], hi[3];
   };
-  std::vector<Segment> segments;
   const double brick_m = static_cast<double>(queries.voxels_per_brick()) * queries.leaf_m();
-  for (uint32_t b = 0; b < queries.bricks(); ++b) {
-    const VoxelKey& key = queries.brick_key(b);
-    segments.clear();
-    for (const VoxelBricks* set : sets)
-      for (int64_t dx = -1; dx <= 1; ++dx)
-        for (int64_t dy = -1; dy <= 1; ++dy)
-          for (int64_t dz = -1; dz <= 1; ++dz) {
-            const VoxelKey at = {key[0] + dx, key[1] + dy, key[2] + dz};
-            const std::vector<VoxelBricks::Point>* pts = set->Find(at);
-            if (pts == nullptr) continue;
-            Segment seg{pts->data(), pts->data() + pts->size(), {}, {}};
-            for (size_t a = 0; a < 3; ++a)
-              seg.lo[a] = static_cast<double>(at[a]) * brick_m - 1e-4, seg.hi[a] = static_cast<double>(at[a] + 1) * brick_m + 1e-4;
-            segments.push_back(seg);
+  // Chunks of bricks, one task each, with their own scratch; every point writes only out[id].
+  constexpr uint32_t kChunk = 32;
+  const uint32_t n_bricks = static_cast<uint32_t>(queries.bricks());
+  ParallelFor(static_cast<int>((n_bricks + kChunk - 1) / kChunk), threads, [&](int chunk) {
+    std::vector<float> near, far;
+    std::vector<Segment> segments;
+    const uint32_t chunk_end = std::min(n_bricks, (static_cast<uint32_t>(chunk) + 1) * kChunk);
+    for (uint32_t b = static_cast<uint32_t>(chunk) * kChunk; b < chunk_end; ++b) {
+      const VoxelKey& key = queries.brick_key(b);
+      segments.clear();
+      for (const VoxelBricks* set : sets)
+        for (int64_t dx = -1; dx <= 1; ++dx)
+          for (int64_t dy = -1; dy <= 1; ++dy)
+            for (int64_t dz = -1; dz <= 1; ++dz) {
+              const VoxelKey at = {key[0] + dx, key[1] + dy, key[2] + dz};
+              const std::vector<VoxelBricks::Point>* pts = set->Find(at);
+              if (pts == nullptr) continue;
+              Segment seg{pts->data(), pts->data() + pts->size(), {}, {}};
+              for (size_t a = 0; a < 3; ++a)
+                seg.lo[a] = static_cast<double>(at[a]) * brick_m - 1e-4, seg.hi[a] = static_cast<double>(at[a] + 1) * brick_m + 1e-4;
+              segments.push_back(seg);
+            }
+      const std::vector<VoxelBricks::Point>& own = queries.brick_members(b);
+      for (const VoxelBricks::Point& self : own) {
+        const float qx = self.x, qy = self.y, qz = self.z;
+        const double q[3] = {qx, qy, qz};
+        // One scan of the bricks within R; neighbours within 0.6 R kept apart: on a dense surface
+        // the k nearest lie there (then only those are ranked; exact, since every point within R
+        // is scanned).
+        near.clear(), far.clear();
+        const float inner2 = cap2 * 0.36f;
+        for (const Segment& seg : segments) {
+          double box2 = 0;
+          for (int a = 0; a < 3; ++a) {
+            const double e = q[a] < seg.lo[a] ? seg.lo[a] - q[a] : (q[a] > seg.hi[a] ? q[a] - seg.hi[a] : 0.0);
+            box2 += e * e;
           }
-    const std::vector<VoxelBricks::Point>& own = queries.brick_members(b);
-    for (const VoxelBricks::Point& self : own) {
-      const float qx = self.x, qy = self.y, qz = self.z;
-      const double q[3] = {qx, qy, qz};
-      // One scan of the bricks within R; neighbours within 0.6 R kept apart: on a dense surface
-      // the k nearest lie there (then only those are ranked; exact, since every point within R
-      // is scanned).
-      near.clear(), far.clear();
-      const float inner2 = cap2 * 0.36f;
-      for (const Segment& seg : segments) {
-        double box2 = 0;
-        for (int a = 0; a < 3; ++a) {
-          const double e = q[a] < seg.lo[a] ? seg.lo[a] - q[a] : (q[a] > seg.hi[a] ? q[a] - seg.hi[a] : 0.0);
-          box2 += e * e;
+          if (box2 > reach2) continue;
+          for (const VoxelBricks::Point* p = seg.begin; p != seg.end; ++p) {
+            // nanoflann's L2_Simple_Adaptor: float, dimensions in order.
+            const float ex = qx - p->x, ey = qy - p->y, ez = qz - p->z;
+            float d = ex * ex;
+            d += ey * ey;
+            d += ez * ez;
+            if (d >= cap2 || p == &self) continue;
+            (d < inner2 ? near : far).push_back(d);
+          }
         }
-        if (box2 > reach2) continue;
-        for (const VoxelBricks::Point* p = seg.begin; p != seg.end; ++p) {
-          // nanoflann's L2_Simple_Adaptor: float, dimensions in order.
-          const float ex = qx - p->x, ey = qy - p->y, ez = qz - p->z;
-          float d = ex * ex;
-          d += ey * ey;
-          d += ez * ez;
-          if (d >= cap2 || p == &self) continue;
-          (d < inner2 ? near : far).push_back(d);
+        if (near.size() < kk) near.insert(near.end(), far.begin(), far.end());
+        if (near.size() > kk) {
+          std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(kk), near.end());
+          near.resize(kk);
         }
+        while (near.size() < kk) near.push_back(cap2);
+        std::sort(near.begin(), near.end());
+        out[self.id] = MeanOfAscendingDistances(near.data(), near.data() + kk);
       }
-      if (near.size() < kk) near.insert(near.end(), far.begin(), far.end());
-      if (near.size() > kk) {
-        std::nth_element(near.begin(), near.begin() + static_cast<std::ptrdiff_t>(kk), near.end());
-        near.resize(kk);
-      }
-      while (near.size() < kk) near.push_back(cap2);
-      std::sort(near.begin(), near.end());
-      out[self.id] = MeanOfAscendingDistances(near.data(), near.data() + kk);
     }
-  }
+  });
   return out;
 }
 

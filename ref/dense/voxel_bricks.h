@@ -52,8 +52,9 @@ class VoxelBricks {
 // distances are the k-d tree's (float squared differences summed x, y, z), sorted, then their
 // square roots summed in double. Queries are processed brick by brick: the 27 bricks around a
 // brick are gathered once for all its points. All sets must share leaf and radius
-// (std::invalid_argument otherwise). Returns out[id].
+// (std::invalid_argument otherwise). Returns out[id]. threads (the run's --threads): bricks side
+// by side, each point's value computed alone, so the same for any count.
 std::vector<double> CappedMeanKnnDistances(const VoxelBricks& queries, const std::vector<const VoxelBricks*>& others,
-                                           int k, double cap_m);
+                                           int k, double cap_m, int threads = 1);
 
 }  // namespace dynref::dense

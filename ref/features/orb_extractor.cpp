@@ -256,58 +256,96 @@ std::vector<cv::KeyPoint> OrbExtractor::DistributeOctTree(
   return result;
 }
 
-void OrbExtractor::ComputeKeyPointsOctTree(std::vector<std::vector<cv::KeyPoint>>* all_keys) {
-  all_keys->assign(options_.n_levels, {});
+namespace {
+
+// The FAST grid of one pyramid level (ORBextractor::ComputeKeyPointsOctTree): 30 px cells inside
+// the level's border, each cell 6 px wider for FAST's ring.
+struct LevelGrid {
+  int min_x = 0, min_y = 0, max_x = 0, max_y = 0;
+  int n_cols = 0, n_rows = 0, w_cell = 0, h_cell = 0;
+};
+
+LevelGrid MakeLevelGrid(const cv::Mat& img, int edge_threshold) {
   const float W = 30;
-  // One task per level: each writes only (*all_keys)[level] (same bytes for any thread count).
-  ParallelFor(options_.n_levels, threads_, [&](int level) {
-    const cv::Mat& img = pyramid_[level];
-    const int min_border_x = kEdgeThreshold - 3;
-    const int min_border_y = min_border_x;
-    const int max_border_x = img.cols - kEdgeThreshold + 3;
-    const int max_border_y = img.rows - kEdgeThreshold + 3;
+  LevelGrid g;
+  g.min_x = g.min_y = edge_threshold - 3;
+  g.max_x = img.cols - edge_threshold + 3;
+  g.max_y = img.rows - edge_threshold + 3;
+  const float width = static_cast<float>(g.max_x - g.min_x);
+  const float height = static_cast<float>(g.max_y - g.min_y);
+  if (width <= 0 || height <= 0) return g;  // n_rows = 0: no cells
+  g.n_cols = std::max(1, static_cast<int>(width / W));
+  g.n_rows = std::max(1, static_cast<int>(height / W));
+  g.w_cell = static_cast<int>(std::ceil(width / g.n_cols));
+  g.h_cell = static_cast<int>(std::ceil(height / g.n_rows));
+  return g;
+}
+
+// FAST on the cells of grid row i, left to right, with the fallback threshold per empty cell;
+// keypoints relative to (min_x, min_y) as ORB-SLAM2 collects them.
+void FastRow(const cv::Mat& img, const LevelGrid& g, int i, int ini_th, int min_th,
+             std::vector<cv::KeyPoint>* out) {
+  const float ini_y = static_cast<float>(g.min_y + i * g.h_cell);
+  float max_y = ini_y + g.h_cell + 6;
+  if (ini_y >= g.max_y - 3) return;
+  if (max_y > g.max_y) max_y = static_cast<float>(g.max_y);
+  for (int j = 0; j < g.n_cols; ++j) {
+    const float ini_x = static_cast<float>(g.min_x + j * g.w_cell);
+    float max_x = ini_x + g.w_cell + 6;
+    if (ini_x >= g.max_x - 6) continue;
+    if (max_x > g.max_x) max_x = static_cast<float>(g.max_x);
+    std::vector<cv::KeyPoint> cell;
+    const cv::Mat sub = img.rowRange(static_cast<int>(ini_y), static_cast<int>(max_y))
+                            .colRange(static_cast<int>(ini_x), static_cast<int>(max_x));
+    cv::FAST(sub, cell, ini_th, true);
+    if (cell.empty()) cv::FAST(sub, cell, min_th, true);
+    for (cv::KeyPoint& kp : cell) {
+      kp.pt.x += j * g.w_cell;
+      kp.pt.y += i * g.h_cell;
+      out->push_back(kp);
+    }
+  }
+}
+
+}  // namespace
+
+void OrbExtractor::ComputeKeyPointsOctTree(std::vector<std::vector<cv::KeyPoint>>* all_keys) {
+  const int n_levels = options_.n_levels;
+  all_keys->assign(n_levels, {});
+  std::vector<LevelGrid> grids;
+  std::vector<int> first_row(static_cast<size_t>(n_levels) + 1, 0);  // task index of (level, row 0)
+  for (int level = 0; level < n_levels; ++level) {
+    grids.push_back(MakeLevelGrid(pyramid_[level], kEdgeThreshold));
+    first_row[level + 1] = first_row[level] + grids[level].n_rows;
+  }
+  // FAST: one task per grid row of every level (the finest level holds most of the work, so
+  // splitting by level alone leaves threads idle); each task writes only its own row slot.
+  std::vector<std::vector<cv::KeyPoint>> rows(static_cast<size_t>(first_row[n_levels]));
+  ParallelFor(first_row[n_levels], threads_, [&](int task) {
+    const int level = static_cast<int>(std::upper_bound(first_row.begin(), first_row.end(), task) - first_row.begin()) - 1;
+    FastRow(pyramid_[level], grids[level], task - first_row[level], options_.ini_th_fast, options_.min_th_fast,
+            &rows[task]);
+  });
+  // Quadtree and orientation: one task per level, over its rows in grid order (row-major cells,
+  // as ORB-SLAM2), so every level sees the same keypoint list for any thread count.
+  ParallelFor(n_levels, threads_, [&](int level) {
+    const LevelGrid& g = grids[level];
+    if (g.n_rows == 0) return;
     std::vector<cv::KeyPoint> to_distribute;
     to_distribute.reserve(options_.n_features * 10);
-    const float width = static_cast<float>(max_border_x - min_border_x);
-    const float height = static_cast<float>(max_border_y - min_border_y);
-    const int n_cols = std::max(1, static_cast<int>(width / W));
-    const int n_rows = std::max(1, static_cast<int>(height / W));
-    const int w_cell = static_cast<int>(std::ceil(width / n_cols));
-    const int h_cell = static_cast<int>(std::ceil(height / n_rows));
-    if (width <= 0 || height <= 0) return;
-    for (int i = 0; i < n_rows; ++i) {
-      const float ini_y = static_cast<float>(min_border_y + i * h_cell);
-      float max_y = ini_y + h_cell + 6;
-      if (ini_y >= max_border_y - 3) continue;
-      if (max_y > max_border_y) max_y = static_cast<float>(max_border_y);
-      for (int j = 0; j < n_cols; ++j) {
-        const float ini_x = static_cast<float>(min_border_x + j * w_cell);
-        float max_x = ini_x + w_cell + 6;
-        if (ini_x >= max_border_x - 6) continue;
-        if (max_x > max_border_x) max_x = static_cast<float>(max_border_x);
-        std::vector<cv::KeyPoint> cell;
-        const cv::Mat sub = img.rowRange(static_cast<int>(ini_y), static_cast<int>(max_y))
-                                .colRange(static_cast<int>(ini_x), static_cast<int>(max_x));
-        cv::FAST(sub, cell, options_.ini_th_fast, true);
-        if (cell.empty()) cv::FAST(sub, cell, options_.min_th_fast, true);
-        for (cv::KeyPoint& kp : cell) {
-          kp.pt.x += j * w_cell;
-          kp.pt.y += i * h_cell;
-          to_distribute.push_back(kp);
-        }
-      }
-    }
+    for (int r = first_row[level]; r < first_row[level + 1]; ++r)
+      to_distribute.insert(to_distribute.end(), rows[r].begin(), rows[r].end());
     std::vector<cv::KeyPoint>& keys = (*all_keys)[level];
-    keys = DistributeOctTree(to_distribute, min_border_x, max_border_x, min_border_y, max_border_y,
-                             features_per_level_[level]);
+    keys = DistributeOctTree(to_distribute, g.min_x, g.max_x, g.min_y, g.max_y, features_per_level_[level]);
     const float scaled_patch = kPatchSize * scale_[level];
+    const cv::Mat& img = pyramid_[level];
     for (cv::KeyPoint& kp : keys) {
-      kp.pt.x += min_border_x;
-      kp.pt.y += min_border_y;
+      kp.pt.x += g.min_x;
+      kp.pt.y += g.min_y;
       kp.octave = level;
       kp.size = scaled_patch;
+      kp.angle = IcAngle(img, kp.pt, umax_);
     }
-    for (cv::KeyPoint& kp : keys) kp.angle = IcAngle(img, kp.pt, umax_);
   });
 }
 
@@ -317,29 +355,27 @@ void OrbExtractor::Extract(const cv::Mat& grey, std::vector<cv::KeyPoint>* keys,
   ComputePyramid(grey);
   std::vector<std::vector<cv::KeyPoint>> all_keys;
   ComputeKeyPointsOctTree(&all_keys);
-  int n = 0;
-  for (const auto& level_keys : all_keys) n += static_cast<int>(level_keys.size());
   keys->clear();
-  keys->reserve(n);
+  for (const auto& level_keys : all_keys) keys->insert(keys->end(), level_keys.begin(), level_keys.end());
+  const int n = static_cast<int>(keys->size());
   descriptors->create(n, 32, CV_8U);
-  std::vector<int> offset(static_cast<size_t>(options_.n_levels) + 1, 0);
-  for (int level = 0; level < options_.n_levels; ++level)
-    offset[level + 1] = offset[level] + static_cast<int>(all_keys[level].size());
-  // One task per level: its descriptor rows [offset[level], offset[level + 1]) and its keys.
+  // rBRIEF on the blurred level images: the blur one task per level, then the descriptors in
+  // fixed chunks of keys (each key writes only its own row), then keys to level-0 scale.
+  std::vector<cv::Mat> blurred(static_cast<size_t>(options_.n_levels));
   ParallelFor(options_.n_levels, threads_, [&](int level) {
-    std::vector<cv::KeyPoint>& level_keys = all_keys[level];
-    if (level_keys.empty()) return;
-    cv::Mat working = pyramid_[level].clone();
-    cv::GaussianBlur(working, working, cv::Size(7, 7), 2, 2, cv::BORDER_REFLECT_101);
-    for (size_t i = 0; i < level_keys.size(); ++i)
-      OrbDescriptor(level_keys[i], working, descriptors->ptr<uchar>(offset[level] + static_cast<int>(i)));
-    if (level != 0) {
-      const float scale = scale_[level];
-      for (cv::KeyPoint& kp : level_keys) kp.pt *= scale;
+    if (all_keys[level].empty()) return;
+    blurred[level] = pyramid_[level].clone();  // a copy: the level is a view into its bordered buffer
+    cv::GaussianBlur(blurred[level], blurred[level], cv::Size(7, 7), 2, 2, cv::BORDER_REFLECT_101);
+  });
+  constexpr int kChunk = 128;
+  ParallelFor((n + kChunk - 1) / kChunk, threads_, [&](int chunk) {
+    const int end = std::min(n, (chunk + 1) * kChunk);
+    for (int i = chunk * kChunk; i < end; ++i) {
+      cv::KeyPoint& kp = (*keys)[i];
+      OrbDescriptor(kp, blurred[kp.octave], descriptors->ptr<uchar>(i));
+      if (kp.octave != 0) kp.pt *= scale_[kp.octave];
     }
   });
-  for (int level = 0; level < options_.n_levels; ++level)
-    keys->insert(keys->end(), all_keys[level].begin(), all_keys[level].end());
 }
 
 int DescriptorDistance(const uint8_t* a, const uint8_t* b) {

@@ -30,8 +30,8 @@ class OrbExtractor {
   // N x 32 CV_8U descriptors, ordered by level then by quadtree node as ORB-SLAM2.
   void Extract(const cv::Mat& grey, std::vector<cv::KeyPoint>* keys, cv::Mat* descriptors);
 
-  // Pyramid levels on up to n threads (core/parallel.h); keypoints and descriptors are the same
-  // bytes for every n (issue 18).
+  // FAST grid rows, quadtree levels and descriptor chunks on up to n threads (core/parallel.h);
+  // keypoints and descriptors are the same bytes for every n (issue 18).
   void set_threads(int n) { threads_ = n; }
 
   const OrbOptions& options() const { return options_; }

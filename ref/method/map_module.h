@@ -20,6 +20,7 @@ struct MapModuleContext {
   const Map& map;              // the whole map (final keyframe poses are read at Finish time)
   const Camera& camera;
   trace::TraceWriter& trace;
+  int threads = 1;             // the run's --threads (a module may split work that stays bit-identical)
 };
 
 class MapModule {

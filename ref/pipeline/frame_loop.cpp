@@ -96,7 +96,7 @@ void FrameLoop::MapperLoop() {
         ctx.new_keyframe_edit = &kf_edit;
         ctx.threads = options_.threads;
         session_.Run(Hook::kOnMapUpdate, ctx);
-        session_.OnMapUpdate(MapModuleContext{kf->frame, *kf, map_, camera_, trace_});
+        session_.OnMapUpdate(MapModuleContext{kf->frame, *kf, map_, camera_, trace_, options_.threads});
       }
     } catch (const std::exception& e) {
       mapper_error_ = "keyframe " + std::to_string(id) + ": " + e.what();
@@ -229,7 +229,7 @@ bool FrameLoop::Process(size_t k) {
       ctx.new_keyframe_edit = &kf_edit;
       ctx.reference_kf = tracker_.reference_kf();
       session_.Run(Hook::kOnKeyFrameCreated, ctx);
-      const MapModuleContext mctx{f, *new_kf, map_, camera_, trace_};
+      const MapModuleContext mctx{f, *new_kf, map_, camera_, trace_, options_.threads};
       session_.OnKeyFrame(mctx);
       if (concurrent_) {
         queue_.push_back(new_kf->id);

@@ -42,6 +42,16 @@ TEST_CASE("dense map: back-projection skips masked pixels and bad depth, colours
   CHECK(c.back().g == 255);  // class 62 (tv/monitor) coloured green
   CHECK(c.back().r == 0);
   CHECK(c.back().class_id == 62);
+  // --threads (issue 18): bands of rows side by side, concatenated in row order.
+  for (int threads : {2, 3, 4}) {
+    const PointCloud t = BackProjectKeyframe(bgr, depth, exclude, labels, cam, o, cv::Mat(), threads);
+    REQUIRE(t.size() == c.size());
+    bool same = true;
+    for (size_t i = 0; i < c.size(); ++i)
+      same = same && t[i].x == c[i].x && t[i].y == c[i].y && t[i].z == c[i].z && t[i].r == c[i].r &&
+             t[i].g == c[i].g && t[i].b == c[i].b && t[i].class_id == c[i].class_id;
+    CHECK(same);
+  }
 }
 
 TEST_CASE("dense map: keyframes accumulate, global filter every N keyframes, deterministic") {

@@ -180,6 +180,8 @@ TEST_CASE("dense SOR: the brick look-up gives the k-d tree's capped statistic bi
   const std::vector<double> plain = MeanKnnDistances(fresh, map, k);
   for (size_t i = 0; i < fresh.size(); ++i) CHECK(plain[i] >= tree[i]);
   CHECK_THROWS_AS(MeanKnnDistances(fresh, map, k, 0.0), std::invalid_argument);
+  // --threads (issue 18): bricks side by side, the same values for 2, 3 and 4 threads.
+  for (int threads : {2, 3, 4}) CHECK(CappedMeanKnnDistances(fresh_bricks, {&map_bricks}, k, cap, threads) == bricks);
   const VoxelBricks other_size(leaf, 2 * cap);
   CHECK_THROWS_AS(CappedMeanKnnDistances(fresh_bricks, {&other_size}, k, cap), std::invalid_argument);
 }

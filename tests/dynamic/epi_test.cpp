@@ -54,6 +54,11 @@ TEST_CASE("epi enhance: alpha 0 is the identity, alpha > 0 raises local contrast
   CHECK(hi <= 1);
   CHECK(std::isinf(EnhancementFitness(cv::Mat(60, 80, CV_32F, cv::Scalar(0.5f)), 0.1)));  // flat: -inf
   CHECK(EnhancementFitness(more, 0.1) > EnhancementFitness(I, 0.1));  // more contrast, more edges
+  // --threads (issue 18): rows side by side, the same bytes and the same fitness for 2-4 threads.
+  for (int threads : {2, 3, 4}) {
+    CHECK(cv::norm(LocalWeightedEnhance(I, p, threads), more, cv::NORM_INF) == 0);
+    CHECK(EnhancementFitness(more, 0.1, threads) == EnhancementFitness(more, 0.1));
+  }
 }
 
 TEST_CASE("epi butterfly optimisation: finds a known maximum, deterministic per seed") {

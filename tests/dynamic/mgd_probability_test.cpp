@@ -75,6 +75,26 @@ TEST_CASE("mgd formulas: Jacobi diffusion of a 3-feature cluster") {
   CHECK(r[1] == q[0]);
 }
 
+TEST_CASE("mgd diffusion: 2, 3 and 4 threads give the values of 1 (issue 18)") {
+  // 600 nodes on a 0.1 m lattice (each with neighbours within r), every 7th without a point.
+  std::vector<Eigen::Vector3d> X;
+  std::vector<bool> has;
+  std::vector<double> p;
+  for (int i = 0; i < 600; ++i) {
+    X.emplace_back(0.1 * (i % 10), 0.1 * ((i / 10) % 10), 1.0 + 0.1 * (i / 100));
+    has.push_back(i % 7 != 0);
+    p.push_back(double((i * 37) % 100) / 100.0);
+  }
+  std::vector<int> nb1;
+  const std::vector<double> q1 = Diffuse(X, has, p, 0.15, &nb1);
+  CHECK(nb1[11] > 0);
+  for (int threads : {2, 3, 4}) {
+    std::vector<int> nb;
+    CHECK(Diffuse(X, has, p, 0.15, &nb, threads) == q1);
+    CHECK(nb == nb1);
+  }
+}
+
 TEST_CASE("mgd options: out-of-range values are named") {
   MgdOptions o;
   o.a = 1.5;

@@ -58,6 +58,29 @@ TEST_CASE("orb: extraction on a real frame is complete, in budget and determinis
   CHECK(per_level[0] > 150);
 }
 
+TEST_CASE("orb: 2, 3 and 4 threads (grid rows, levels, descriptor chunks) give the bytes of 1 (issue 18)") {
+  const cv::Mat grey = RealGrey();
+  OrbExtractor one(OrbOptions{});
+  std::vector<cv::KeyPoint> k1;
+  cv::Mat d1;
+  one.Extract(grey, &k1, &d1);
+  REQUIRE(k1.size() > 900);
+  for (int threads : {2, 3, 4}) {
+    OrbExtractor ex(OrbOptions{});
+    ex.set_threads(threads);
+    std::vector<cv::KeyPoint> k;
+    cv::Mat d;
+    ex.Extract(grey, &k, &d);
+    REQUIRE(k.size() == k1.size());
+    CHECK(cv::norm(d, d1, cv::NORM_HAMMING) == 0);
+    bool same = true;
+    for (size_t i = 0; i < k.size(); ++i)
+      same = same && k[i].pt == k1[i].pt && k[i].angle == k1[i].angle && k[i].response == k1[i].response &&
+             k[i].octave == k1[i].octave && k[i].size == k1[i].size;
+    CHECK(same);
+  }
+}
+
 TEST_CASE("orb: descriptors are rotation invariant (image rotated by 90 degrees)") {
   const cv::Mat grey = RealGrey();
   cv::Mat rot;

@@ -8,6 +8,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/parallel.h"
+
 namespace dynref::epi {
 
 void EnhanceParams::Check() const {
@@ -51,14 +53,15 @@ StretchResult CdfStretch(const cv::Mat& grey8, double s) {
   return r;
 }
 
-cv::Mat LocalWeightedEnhance(const cv::Mat& I, const EnhanceParams& p) {
+cv::Mat LocalWeightedEnhance(const cv::Mat& I, const EnhanceParams& p, int threads) {
   CV_Assert(I.type() == CV_32F);
   const cv::Size k(p.window, p.window);
   cv::Mat mu, mu2;
   cv::boxFilter(I, mu, CV_32F, k, cv::Point(-1, -1), true, cv::BORDER_REFLECT_101);
   cv::boxFilter(I.mul(I), mu2, CV_32F, k, cv::Point(-1, -1), true, cv::BORDER_REFLECT_101);
   cv::Mat out(I.size(), CV_32F);
-  for (int y = 0; y < I.rows; ++y) {
+  ParallelForEach(size_t(I.rows), threads, [&](size_t row) {
+    const int y = int(row);
     const float* i = I.ptr<float>(y);
     const float* m = mu.ptr<float>(y);
     const float* m2 = mu2.ptr<float>(y);
@@ -69,25 +72,32 @@ cv::Mat LocalWeightedEnhance(const cv::Mat& I, const EnhanceParams& p) {
       const double w = p.alpha * std::pow(std::abs(d) / (sigma + p.e0), p.p);
       o[x] = float(std::clamp(m[x] + (1.0 + w) * d, 0.0, 1.0));
     }
-  }
+  }, 16);
   return out;
 }
 
-double EnhancementFitness(const cv::Mat& E, double edge_threshold) {
+double EnhancementFitness(const cv::Mat& E, double edge_threshold, int threads) {
   cv::Mat gx, gy;
   cv::Sobel(E, gx, CV_32F, 1, 0, 3, 1, 0, cv::BORDER_REFLECT_101);
   cv::Sobel(E, gy, CV_32F, 0, 1, 3, 1, 0, cv::BORDER_REFLECT_101);
+  // Gradient magnitudes row by row (any thread count), then one sum in pixel order.
+  cv::Mat mags(E.size(), CV_64F);
+  ParallelForEach(size_t(E.rows), threads, [&](size_t row) {
+    const int y = int(row);
+    const float* a = gx.ptr<float>(y);
+    const float* b = gy.ptr<float>(y);
+    double* m = mags.ptr<double>(y);
+    for (int x = 0; x < E.cols; ++x) m[x] = std::sqrt(double(a[x]) * a[x] + double(b[x]) * b[x]);
+  }, 16);
   double sum = 0;
   int64_t edges = 0;
   std::array<int64_t, 256> hist{};
   for (int y = 0; y < E.rows; ++y) {
-    const float* a = gx.ptr<float>(y);
-    const float* b = gy.ptr<float>(y);
+    const double* m = mags.ptr<double>(y);
     const float* e = E.ptr<float>(y);
     for (int x = 0; x < E.cols; ++x) {
-      const double mag = std::sqrt(double(a[x]) * a[x] + double(b[x]) * b[x]);
-      sum += mag;
-      edges += mag > edge_threshold;
+      sum += m[x];
+      edges += m[x] > edge_threshold;
       ++hist[size_t(std::clamp(int(e[x] * 255.0f + 0.5f), 0, 255))];
     }
   }
@@ -99,15 +109,15 @@ double EnhancementFitness(const cv::Mat& E, double edge_threshold) {
   return std::log(std::log(sum)) * (double(edges) / n) * entropy;
 }
 
-EnhanceResult Enhance(const cv::Mat& grey8, const EnhanceParams& p) {
+EnhanceResult Enhance(const cv::Mat& grey8, const EnhanceParams& p, int threads) {
   EnhanceResult r;
   const StretchResult st = CdfStretch(grey8, p.s);
   r.lo = st.lo, r.hi = st.hi;
-  const cv::Mat full = LocalWeightedEnhance(st.stretched, p);
-  r.fitness = EnhancementFitness(full, p.edge_threshold);
+  const cv::Mat full = LocalWeightedEnhance(st.stretched, p, threads);
+  r.fitness = EnhancementFitness(full, p.edge_threshold, threads);
   cv::Mat small, small_e, up;
   cv::resize(st.stretched, small, cv::Size(), p.down, p.down, cv::INTER_AREA);
-  small_e = LocalWeightedEnhance(small, p);
+  small_e = LocalWeightedEnhance(small, p, threads);
   cv::resize(small_e, up, full.size(), 0, 0, cv::INTER_LINEAR);
   const cv::Mat fused = p.w_ms * up + (1.0 - p.w_ms) * full;
   cv::Mat fused8;

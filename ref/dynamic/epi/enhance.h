@@ -34,10 +34,12 @@ struct StretchResult {
 };
 // a + b on a CV_8U grey image.
 StretchResult CdfStretch(const cv::Mat& grey8, double s);
+// threads (the run's --threads, not a parameter): the per-pixel work of c and d runs in row chunks
+// side by side; sums stay in one fixed order, so the results are the same bytes for any count.
 // c on CV_32F [0, 1].
-cv::Mat LocalWeightedEnhance(const cv::Mat& stretched, const EnhanceParams& p);
+cv::Mat LocalWeightedEnhance(const cv::Mat& stretched, const EnhanceParams& p, int threads = 1);
 // d: the fitness of an enhanced CV_32F [0, 1] image; -inf when it has no edges at all.
-double EnhancementFitness(const cv::Mat& enhanced, double edge_threshold);
+double EnhancementFitness(const cv::Mat& enhanced, double edge_threshold, int threads = 1);
 
 struct EnhanceResult {
   cv::Mat grey8;              // CV_8U, what feature extraction sees
@@ -46,6 +48,6 @@ struct EnhanceResult {
   double mean_in = 0, mean_out = 0;  // mean grey in [0, 1] before and after
 };
 // a-f on a CV_8U grey image.
-EnhanceResult Enhance(const cv::Mat& grey8, const EnhanceParams& p);
+EnhanceResult Enhance(const cv::Mat& grey8, const EnhanceParams& p, int threads = 1);
 
 }  // namespace dynref::epi

@@ -44,12 +44,13 @@ EnhanceStageOptions EnhanceOptionsFromParams(const ParamMap& p) {
   return o;
 }
 
-BoaResult OptimiseEnhancement(const cv::Mat& grey8, const EnhanceStageOptions& o, EnhanceParams* params, Rng& rng) {
+BoaResult OptimiseEnhancement(const cv::Mat& grey8, const EnhanceStageOptions& o, EnhanceParams* params, Rng& rng,
+                              int threads) {
   const cv::Mat stretched = CdfStretch(grey8, params->s).stretched;
   const Fitness fit = [&](const std::vector<double>& x) {
     EnhanceParams q = *params;
     q.alpha = x[0], q.p = x[1];
-    return EnhancementFitness(LocalWeightedEnhance(stretched, q), q.edge_threshold);
+    return EnhancementFitness(LocalWeightedEnhance(stretched, q, threads), q.edge_threshold, threads);
   };
   const BoaResult r = ButterflyOptimise(fit, {0.0, o.p_min}, {o.alpha_max, o.p_max}, o.boa, rng);
   params->alpha = r.best[0];
@@ -57,14 +58,14 @@ BoaResult OptimiseEnhancement(const cv::Mat& grey8, const EnhanceStageOptions& o
   return r;
 }
 
-EnhanceResult SequenceEnhancer::Enhance(const cv::Mat& grey8, BoaResult* tuned) {
+EnhanceResult SequenceEnhancer::Enhance(const cv::Mat& grey8, BoaResult* tuned, int threads) {
   if (tuned != nullptr) *tuned = BoaResult{};
   if (o_.optimise && !tuned_) {
-    const BoaResult r = OptimiseEnhancement(grey8, o_, &o_.params, rng_);
+    const BoaResult r = OptimiseEnhancement(grey8, o_, &o_.params, rng_, threads);
     if (tuned != nullptr) *tuned = r;
     tuned_ = true;
   }
-  return epi::Enhance(grey8, o_.params);
+  return epi::Enhance(grey8, o_.params, threads);
 }
 
 EnhanceStage::EnhanceStage(const ParamMap& p) : enhancer_(EnhanceOptionsFromParams(p)) {}
@@ -75,7 +76,7 @@ void EnhanceStage::Run(StageContext& ctx) {
   const std::string fid = "f" + std::to_string(f.index);
   cv::Mat& grey = ctx.frame.grey_for_extraction();
   BoaResult boa;
-  const EnhanceResult e = enhancer_.Enhance(grey, &boa);
+  const EnhanceResult e = enhancer_.Enhance(grey, &boa, ctx.threads);
   const EnhanceParams& q = enhancer_.params();
   if (boa.evaluations > 0) {
     for (size_t it = 0; it < boa.best_per_iteration.size(); ++it)

@@ -33,7 +33,9 @@ struct EnhanceStageOptions {
 EnhanceStageOptions EnhanceOptionsFromParams(const ParamMap& p);
 
 // Tunes (alpha, p) of `params` on one grey image by BOA; returns the result (params updated).
-BoaResult OptimiseEnhancement(const cv::Mat& grey8, const EnhanceStageOptions& o, EnhanceParams* params, Rng& rng);
+// threads: the run's --threads (enhance.h), the same result for any count.
+BoaResult OptimiseEnhancement(const cv::Mat& grey8, const EnhanceStageOptions& o, EnhanceParams* params, Rng& rng,
+                              int threads = 1);
 
 // Module A over a sequence (spec 004 E2): with `optimise`, (alpha, p) are tuned by BOA
 // (Rng(seed, "epi.boa")) on the first image enhanced, then kept for every later image. The
@@ -42,7 +44,7 @@ class SequenceEnhancer {
  public:
   explicit SequenceEnhancer(const EnhanceStageOptions& o) : o_(o), rng_(o.seed, "epi.boa") {}
   // `tuned` (optional) receives the BOA result on the call that tuned (evaluations 0 otherwise).
-  EnhanceResult Enhance(const cv::Mat& grey8, BoaResult* tuned = nullptr);
+  EnhanceResult Enhance(const cv::Mat& grey8, BoaResult* tuned = nullptr, int threads = 1);
   const EnhanceParams& params() const { return o_.params; }
 
  private:

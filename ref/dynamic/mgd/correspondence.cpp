@@ -2,20 +2,22 @@
 
 #include <map>
 
+#include "core/parallel.h"
 #include "features/orb_extractor.h"
 
 namespace dynref::mgd {
 
-std::vector<Correspondence> MatchPrevious(const Frame& cur, const Frame& prev, double delta, double radius_px) {
+std::vector<Correspondence> MatchPrevious(const Frame& cur, const Frame& prev, double delta, double radius_px,
+                                          int threads) {
   const int max_bits = static_cast<int>((1.0 - delta) * 256.0);
   std::map<int64_t, int> prev_of_point;  // map point -> first previous feature observing it
   for (size_t j = 0; j < prev.N(); ++j)
     if (prev.map_point_ids[j] >= 0 && !prev.outlier[j]) prev_of_point.emplace(prev.map_point_ids[j], static_cast<int>(j));
   const double r2 = radius_px * radius_px;
   std::vector<Correspondence> out(cur.N());
-  for (size_t i = 0; i < cur.N(); ++i) {
+  ParallelForEach(cur.N(), threads, [&](size_t i) {
     const int fi = static_cast<int>(i);
-    if (cur.IsExcluded(fi)) continue;
+    if (cur.IsExcluded(fi)) return;
     const uint8_t* d_i = cur.descriptors.ptr<uint8_t>(fi);
     Correspondence& c = out[i];
     const int64_t mp = cur.outlier[i] ? -1 : cur.map_point_ids[i];
@@ -23,7 +25,7 @@ std::vector<Correspondence> MatchPrevious(const Frame& cur, const Frame& prev, d
     if (it != prev_of_point.end()) {
       const int h = features::DescriptorDistance(d_i, prev.descriptors.ptr<uint8_t>(it->second));
       if (h <= max_bits) c = {it->second, CorrespondenceSource::kMapPoint, h};
-      continue;
+      return;
     }
     const cv::Point2f& p = cur.keys_un[i].pt;
     int best = max_bits + 1, best_j = -1;
@@ -35,7 +37,7 @@ std::vector<Correspondence> MatchPrevious(const Frame& cur, const Frame& prev, d
       if (h < best) best = h, best_j = static_cast<int>(j);
     }
     if (best_j >= 0) c = {best_j, CorrespondenceSource::kDescriptorWindow, best};
-  }
+  });
   return out;
 }
 

@@ -19,6 +19,8 @@ struct Correspondence {
 };
 
 // One entry per current feature (excluded ones: none). Deterministic: ties keep the lowest index.
-std::vector<Correspondence> MatchPrevious(const Frame& cur, const Frame& prev, double delta, double radius_px);
+// threads (the run's --threads): features in chunks side by side, the same entries for any count.
+std::vector<Correspondence> MatchPrevious(const Frame& cur, const Frame& prev, double delta, double radius_px,
+                                          int threads = 1);
 
 }  // namespace dynref::mgd

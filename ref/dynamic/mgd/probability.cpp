@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/parallel.h"
+
 namespace dynref::mgd {
 
 void MgdOptions::Check() const {
@@ -73,14 +75,15 @@ double Smooth(double p_prev, double s, const MgdOptions& o) {
 }
 
 std::vector<double> Diffuse(const std::vector<Eigen::Vector3d>& points, const std::vector<bool>& has_point,
-                            const std::vector<double>& p, double radius_m, std::vector<int>* neighbours) {
+                            const std::vector<double>& p, double radius_m, std::vector<int>* neighbours,
+                            int threads) {
   const size_t n = p.size();
   if (points.size() != n || has_point.size() != n) throw std::invalid_argument("Diffuse: size mismatch");
   std::vector<double> out = p;
   if (neighbours) neighbours->assign(n, 0);
   const double r2 = radius_m * radius_m;
-  for (size_t i = 0; i < n; ++i) {
-    if (!has_point[i]) continue;
+  ParallelForEach(n, threads, [&](size_t i) {
+    if (!has_point[i]) return;
     double sum_w = 0, sum_wp = 0;
     int count = 0;
     for (size_t j = 0; j < n; ++j) {  // ascending j: a fixed summation order
@@ -94,7 +97,7 @@ std::vector<double> Diffuse(const std::vector<Eigen::Vector3d>& points, const st
     }
     out[i] = p[i] + sum_wp / (1.0 + sum_w);
     if (neighbours) (*neighbours)[i] = count;
-  }
+  });
   return out;
 }
 

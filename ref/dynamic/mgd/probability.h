@@ -45,8 +45,11 @@ double Smooth(double p_prev, double s, const MgdOptions& o);
 // Sec. 3.4 spatial diffusion (Jacobi: right-hand side from the input values). For each i with a
 // point (has_point), neighbours j != i with a point and ||X_i - X_j|| <= r:
 //   P'(i) = P(i) + C_i sum_j exp(-d_ij / r) (P(j) - P(i)),  C_i = 1 / (1 + sum_j exp(-d_ij / r))
-// (spec E11 normaliser: P' stays in [0, 1]). neighbours[i] receives |N(i)|.
+// (spec E11 normaliser: P' stays in [0, 1]). neighbours[i] receives |N(i)|. threads (the run's
+// --threads): nodes in chunks side by side; each node sums over j in ascending order, so the
+// result is the same for any count.
 std::vector<double> Diffuse(const std::vector<Eigen::Vector3d>& points, const std::vector<bool>& has_point,
-                            const std::vector<double>& p, double radius_m, std::vector<int>* neighbours);
+                            const std::vector<double>& p, double radius_m, std::vector<int>* neighbours,
+                            int threads = 1);
 
 }  // namespace dynref::mgd

@@ -52,7 +52,7 @@ void ProbabilityStage::Run(StageContext& ctx) {
   const size_t n = f.N();
   const Frame* prev = ctx.previous;
   std::vector<Correspondence> corr(n);
-  if (prev != nullptr) corr = MatchPrevious(f, *prev, o.delta, o.match_radius_px);
+  if (prev != nullptr) corr = MatchPrevious(f, *prev, o.delta, o.match_radius_px, ctx.threads);
   const bool have_prev_p = prev != nullptr && s.prev_frame == prev->index && s.prev_p.size() == prev->N();
   Eigen::Vector2d vbar = Eigen::Vector2d::Zero();
   const bool has_vbar = prev != nullptr && MeanBackgroundVelocity(f, *prev, corr, s.in_box, &vbar);
@@ -158,7 +158,8 @@ void ProbabilityStage::Run(StageContext& ctx) {
       p_smooth.push_back(lines.p_smooth[i][k]);
     }
   std::vector<int> neighbours(p_smooth.size(), 0);
-  const std::vector<double> p = o.diffusion ? Diffuse(points, has_point, p_smooth, o.radius_m, &neighbours) : p_smooth;
+  const std::vector<double> p = o.diffusion ? Diffuse(points, has_point, p_smooth, o.radius_m, &neighbours, ctx.threads)
+                                                : p_smooth;
   // Steps 13 and 15: suppression / weights, write-back.
   int64_t suppressed = 0;
   std::vector<double> next_prev(n, -1.0);

@@ -73,7 +73,7 @@ void MapModule::OnKeyFrame(const MapModuleContext& ctx) {
   const cv::Mat exclude = o_.remove_dynamic ? board_->dynamic.mask : cv::Mat();
   if (!rays_ready_) rays_ = dense::UndistortedRays(ctx.camera), rays_ready_ = true;
   dense::PointCloud cloud = dense::BackProjectKeyframe(f.rgb, f.depth_m, exclude, board_->static_classes, ctx.camera,
-                                                       o_.backproject, rays_);
+                                                       o_.backproject, rays_, ctx.threads);
   const double a = o_.semantic_alpha;
   for (dense::ColoredPoint& p : cloud) {
     uint8_t r, g, b;

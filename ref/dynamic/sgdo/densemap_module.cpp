@@ -56,6 +56,7 @@ DenseMapModule::DenseMapModule(const ParamMap& p, std::shared_ptr<Blackboard> bo
 void DenseMapModule::OnKeyFrame(const MapModuleContext& ctx) {
   const Frame& f = ctx.frame;
   if (!board_->Has(f)) throw std::logic_error("sgdo.densemap needs sgdo.mask earlier in the stage list");
+  map_->set_threads(ctx.threads);
   const dense::KeyframeInsertStats st = map_->AddKeyframe(
       f.rgb, f.depth_m, board_->mask.mask, board_->static_labels, ctx.camera, ctx.keyframe.T_cw.inverse());
   trace::TraceWriter& tr = ctx.trace;
