@@ -36,7 +36,8 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
                   "thread as in ORB-SLAM2: results vary from run to run; compare with dynref diff ORACLE RUN --summary)")
       ->check(CLI::IsMember({"oracle", "concurrent"}));
   app->add_option("--threads", opts->threads,
-                  "threads for the work that stays bit-identical (ORB extraction by pyramid level); results and "
+                  "threads for the work that stays bit-identical (ORB extraction, lines and planes, Lucas-Kanade, "
+                  "per-feature probabilities, image enhancement, dense back-projection; reports/threads_bench.md); results and "
                   "traces are the same for every N; with N > 1 run.json timings are wall-clock ms (default 1)");
   app->add_flag("!--no-progress", opts->progress, "no progress line on stderr");
   out.push_back({app, [opts, frames, frames_opt, sets] {

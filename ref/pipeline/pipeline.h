@@ -31,8 +31,8 @@ struct RunOptions {
   FrameRange frames;             // --frames: inclusive sequence indices (default: all)
   bool progress = true;          // progress line when stderr is a terminal
   bool overlays = false;         // render RUN/overlays/ after the run (ref/render; needs a trace)
-  // --threads: work that stays bit-identical runs on up to this many threads (today: ORB
-  // extraction by pyramid level, issue 18). Results and traces do not depend on it; with > 1
+  // --threads: work that stays bit-identical runs on up to this many threads (issue 18; the list
+  // is in reports/threads_bench.md). Results and traces do not depend on it; with > 1
   // the module timings in run.json are wall-clock ms (a thread's CPU clock misses its helpers).
   int threads = 1;
   // --variant: "oracle" (default: single-threaded, deterministic) or "concurrent" (issue 18:
