@@ -7,19 +7,18 @@
 #   bash scripts/bench-structure.sh [SEEDS]        (default "1 2 3"; DYNREF_BENCH_OUT, default out/bench)
 #   FRAMES=600 PRESETS="static_xyz static_rpy static_halfsphere static_lowtexture" VARIANTS=... DYNREF=...
 #
-# Variants: orb, mgd-nd (configs/mgd_nd.yaml), mgd-nd-nopar (e_par off, backbone
-# line_parallel_term=false), orb-edge (backbone depth_edge_rel=0.05: no depth for keypoints on
-# depth discontinuities), mgd-nd-edge (mgd-nd with depth_edge_rel=0.05). On static_lowtexture
-# ORB-SLAM2's initialisation rule (more than 500 features with depth) never holds (~240), so
-# every variant there runs with backbone.min_init_points=100 (rows marked "init 100"), and orb
-# also with the default rule (row "orb-init500": it never starts).
+# Variants: orb (ORB-SLAM2 defaults: depth read at the keypoint's pixel, start on > 500 keypoints
+# with depth), orb-edge50 (orb with mgd-nd's two point settings: backbone depth_edge_rel=0.05, no
+# depth for keypoints on depth steps, and min_init_points=50), mgd-nd (configs/mgd_nd.yaml, which
+# sets those two), mgd-nd-orb2 (mgd-nd with ORB-SLAM2's point settings: depth_edge_rel=0,
+# min_init_points=500), mgd-nd-nopar (e_par off, backbone line_parallel_term=false).
 # Writes $OUT/structure_bench.md. Timings are this machine's CPU and never tested.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SEEDS=(${1:-1 2 3})
 FRAMES=${FRAMES:-600}
 PRESETS=(${PRESETS:-static_xyz static_rpy static_halfsphere static_lowtexture})
-VARIANTS=(${VARIANTS:-orb orb-edge mgd-nd mgd-nd-nopar mgd-nd-edge})
+VARIANTS=(${VARIANTS:-orb orb-edge50 mgd-nd mgd-nd-orb2 mgd-nd-nopar})
 OUT=${DYNREF_BENCH_OUT:-out/bench}
 DYNREF=${DYNREF:-build/dynref}
 [ -x "$DYNREF" ] || bash scripts/build.sh
@@ -29,24 +28,18 @@ for preset in "${PRESETS[@]}"; do
   for seed in "${SEEDS[@]}"; do
     seq="$OUT/seq/$preset-$FRAMES-s$seed"
     [ -f "$seq/groundtruth.txt" ] || "$DYNREF" synth --preset "$preset" --frames "$FRAMES" --seed "$seed" --out "$seq" > /dev/null
-    variants=("${VARIANTS[@]}")
-    [ "$preset" = static_lowtexture ] && variants+=(orb-init500)
-    for variant in "${variants[@]}"; do
-      method=$variant; sets=(); init=""
+    for variant in "${VARIANTS[@]}"; do
+      method=$variant; sets=()
       case "$variant" in
+        orb-edge50) method=orb; sets=(--set backbone.depth_edge_rel=0.05 --set backbone.min_init_points=50) ;;
+        mgd-nd-orb2) method=mgd-nd; sets=(--set backbone.depth_edge_rel=0 --set backbone.min_init_points=500) ;;
         mgd-nd-nopar) method=mgd-nd; sets=(--set backbone.line_parallel_term=false) ;;
-        orb-edge) method=orb; sets=(--set backbone.depth_edge_rel=0.05) ;;
-        mgd-nd-edge) method=mgd-nd; sets=(--set backbone.depth_edge_rel=0.05) ;;
-        orb-init500) method=orb ;;
       esac
-      if [ "$preset" = static_lowtexture ] && [ "$variant" != orb-init500 ]; then
-        sets+=(--set backbone.min_init_points=100); init=" (init 100)"
-      fi
       run="$OUT/runs/$preset-$FRAMES-s$seed-$variant"
       echo "bench-structure: $preset seed $seed $variant" >&2
       "$DYNREF" run --method "$method" --sequence "$seq" --out "$run" --trace frames --no-progress "${sets[@]}" > /dev/null || true
       ate=$("$DYNREF" eval --est "$run/trajectory.txt" --gt "$seq/groundtruth.txt" 2>/dev/null | awk '/ate \[m\]/ {print $4}' || true)
-      rows+=$(python3 - "$run" "$preset" "$seed" "$variant$init" "${ate:-nan}" "$DYNREF" <<'PY'
+      rows+=$(python3 - "$run" "$preset" "$seed" "$variant" "${ate:-nan}" "$DYNREF" <<'PY'
 import json, subprocess, sys
 run, preset, seed, variant, ate, dynref = sys.argv[1:]
 j = json.load(open(run + "/run.json"))
