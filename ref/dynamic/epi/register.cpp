@@ -1,4 +1,4 @@
-// Enhanced-epipolar SLAM (seed 004): registers epi.enhance and epi.vote (stages.h).
+// Enhanced-epipolar SLAM (seed 004): registers epi.enhance, epi.vote and epi.nerf (stages.h).
 #include "dynamic/epi/stages.h"
 #include "method/registry.h"
 
@@ -8,8 +8,11 @@ void RegisterEpiMethod(MethodRegistry& registry) {
   registry.AddStage("epi.enhance", [](const ParamMap& p, SharedState&) -> std::unique_ptr<Stage> {
     return std::make_unique<epi::EnhanceStage>(p);
   });
-  registry.AddStage("epi.vote", [](const ParamMap& p, SharedState&) -> std::unique_ptr<Stage> {
-    return std::make_unique<epi::VoteStage>(p);
+  registry.AddStage("epi.vote", [](const ParamMap& p, SharedState& shared) -> std::unique_ptr<Stage> {
+    return std::make_unique<epi::VoteStage>(p, shared.Get<epi::Blackboard>(epi::kBoardKey));
+  });
+  registry.AddMapModule("epi.nerf", [](const ParamMap& p, SharedState& shared) -> std::unique_ptr<MapModule> {
+    return std::make_unique<epi::NerfModule>(p, shared.Get<epi::Blackboard>(epi::kBoardKey));
   });
 }
 

@@ -5,8 +5,12 @@
 //                pose from its LK pairs (RGB-D rigid RANSAC), F = K^-T [t]x R K^-1, epipolar
 //                distance of every in-mask keypoint, 60 % vote per mask, dynamic masks' keypoints
 //                excluded before any matching.
+//   epi.nerf     (map module)        Sec. 3.3.2: NeRF-ready export at the end of the run
+//                (nerf_export.h): keyframe images, Module C's dynamic masks, transforms.json,
+//                pseudo-point cloud of triangulated static matches, L_geo.
 // Module B (learned float descriptors + MNN2) is not built: the backbone matches ORB only.
 #pragma once
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -15,9 +19,12 @@
 #include "dynamic/epi/butterfly.h"
 #include "dynamic/epi/enhance.h"
 #include "dynamic/epi/mask_vote.h"
+#include "dynamic/epi/nerf_export.h"
+#include "features/mnn2.h"
 #include "geometry/dynamic_mask.h"
 #include "geometry/lk_pairs.h"
 #include "geometry/rigid_ransac.h"
+#include "method/map_module.h"
 #include "method/params.h"
 #include "method/stage.h"
 
@@ -64,9 +71,18 @@ class EnhanceStage : public Stage {
   SequenceEnhancer enhancer_;
 };
 
+// What epi.vote leaves for epi.nerf: the current frame's pixels of the masks voted dynamic.
+struct Blackboard {
+  int frame_index = -1;
+  std::string stamp_text;
+  cv::Mat dynamic_mask;  // CV_8U, 255 = a pixel of a mask voted dynamic
+  bool Has(const Frame& f) const { return frame_index == f.index && stamp_text == f.stamp_text; }
+};
+constexpr const char* kBoardKey = "epi.board";
+
 class VoteStage : public Stage {
  public:
-  explicit VoteStage(const ParamMap& p);
+  VoteStage(const ParamMap& p, std::shared_ptr<Blackboard> board);
   std::string name() const override { return "epi.vote"; }
   Hook hook() const override { return Hook::kAfterExtraction; }
   void Run(StageContext& ctx) override;
@@ -77,6 +93,31 @@ class VoteStage : public Stage {
   geometry::RigidRansacOptions pose_;
   MaskVoteOptions vote_;
   Rng rng_;
+  std::shared_ptr<Blackboard> board_;
+};
+
+class NerfModule : public MapModule {
+ public:
+  NerfModule(const ParamMap& p, std::shared_ptr<Blackboard> board);
+  std::string name() const override { return "epi.nerf"; }
+  void OnKeyFrame(const MapModuleContext& ctx) override;
+  void OnMapUpdate(const MapModuleContext& ctx) override;  // forgets culled keyframes
+  // Writes RUN/nerf/: images/, masks/, sparse_points.ply, transforms.json (last, atomically).
+  void Finish(const Map& map, RunEnd& end) override;
+
+ private:
+  struct Keyframe {
+    std::string stamp_text;
+    cv::Mat rgb;                      // BGR as read
+    cv::Mat dynamic_mask;             // CV_8U 255 = dynamic (empty: none)
+    std::vector<cv::Point2f> raw, un;  // static keypoints (raw and undistorted pixels)
+    cv::Mat descriptors;              // their rows
+  };
+  std::shared_ptr<Blackboard> board_;
+  TriangulationGates gates_;
+  features::Mnn2Options match_;
+  std::map<int64_t, Keyframe> keyframes_;  // by keyframe id (creation order)
+  Camera camera_;
 };
 
 }  // namespace dynref::epi

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "core/error.h"
 #include "dynamic/epi/stages.h"
@@ -18,7 +19,8 @@
 
 namespace dynref::epi {
 
-VoteStage::VoteStage(const ParamMap& p) : rng_(uint64_t(p.GetInt("ransac_seed")), "epi.pose") {
+VoteStage::VoteStage(const ParamMap& p, std::shared_ptr<Blackboard> board)
+    : rng_(uint64_t(p.GetInt("ransac_seed")), "epi.pose"), board_(std::move(board)) {
   p.RequireKnownKeys({"dynamic_classes", "min_confidence", "epi_threshold_px", "vote_ratio", "lk_window_px",
                       "lk_max_level", "border_px", "patch_sad_max", "pose_inlier_px", "pose_iterations",
                       "pose_min_inliers", "ransac_seed"});
@@ -128,6 +130,17 @@ void VoteStage::Run(StageContext& ctx) {
   }
   int64_t dynamic_masks = 0;
   for (const auto& [id, v] : votes) dynamic_masks += v.dynamic;
+  // For epi.nerf: the pixels of the masks voted dynamic.
+  board_->frame_index = f.index;
+  board_->stamp_text = f.stamp_text;
+  board_->dynamic_mask = cv::Mat::zeros(cam.height, cam.width, CV_8U);
+  if (dynamic_masks > 0 && !m.instance_labels.empty())
+    for (int y = 0; y < m.instance_labels.rows; ++y) {
+      const uint16_t* label = m.instance_labels.ptr<uint16_t>(y);
+      uint8_t* out = board_->dynamic_mask.ptr<uint8_t>(y);
+      for (int x = 0; x < m.instance_labels.cols; ++x)
+        if (label[x] != 0 && votes.count(label[x]) != 0 && votes.at(label[x]).dynamic) out[x] = 255;
+    }
   tr.FrameCount(name(), "masks", int64_t(votes.size()));
   tr.FrameCount(name(), "dynamic_masks", dynamic_masks);
   tr.FrameCount(name(), "keypoints_removed", removed);
