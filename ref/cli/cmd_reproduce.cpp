@@ -5,6 +5,7 @@
 #include "cli/command.h"
 #include "core/error.h"
 #include "reproduce/blur_tables.h"
+#include "reproduce/epi_slam_tables.h"
 #include "reproduce/epi_tables.h"
 #include "reproduce/mgd_tables.h"
 #include "reproduce/sgdo_table6.h"
@@ -134,6 +135,31 @@ void RegisterReproduceCommand(CLI::App& root, CommandList& out) {
     out.push_back({et, [e, seeds] {
                      if (!seeds->empty()) e->seeds = ParseSeedList(*seeds, "--seeds");
                      return reproduce::RunEpiTable(*e);
+                   }});
+  }
+
+  {  // Enhanced-epipolar SLAM (seed 004): Tables 3-7 (SLAM runs, normal and low light).
+    auto e = std::make_shared<reproduce::EpiSlamTableArgs>();
+    e->sequences = reproduce::EpiSlamDefaultSequences();
+    e->ablation_sequences = reproduce::EpiSlamDefaultAblationSequences();
+    auto seeds = std::make_shared<std::vector<std::string>>();
+    CLI::App* et = rep->add_subcommand(
+        "epi-table3", "Seed 004 Tables 3-7: ATE of orb and epi (A + C) on TUM/Bonn analogues in normal and low light, "
+                      "the A/C ablation, Module C's mask-vote accuracy against the ground truth, ms/frame, over seeds");
+    et->add_option("--out", e->out, "Markdown report (default " + e->out + ")");
+    et->add_option("--work", e->work, "Working folder <work>/seed<S>/<lighting>/{seq,runs} (default " + e->work + ")");
+    et->add_option("--frames", e->frames, "Frames per synthetic sequence (default 300)");
+    et->add_option("--seeds", *seeds, "Synthesis seeds: list and ranges (default 1-3)")->delimiter(',');
+    et->add_option("--detections", e->detections, "Synthetic detection mode (default yolo-like)");
+    et->add_option("--sequences", e->sequences, "Presets (default the paper's TUM and Bonn analogues)")->delimiter(',');
+    et->add_option("--ablation-sequences", e->ablation_sequences, "Presets of the A/C ablation (default walking_static,crowd)")
+        ->delimiter(',');
+    et->add_option("--timing-sequence", e->timing_sequence, "Preset of the Table 7 timing runs (default walking_xyz)");
+    et->add_flag("--reuse", e->reuse, "Reuse sequences/runs of an earlier call with identical inputs");
+    et->add_flag("--collect", e->collect, "Only read: sequences and runs already in --work");
+    out.push_back({et, [e, seeds] {
+                     if (!seeds->empty()) e->seeds = ParseSeedList(*seeds, "--seeds");
+                     return reproduce::RunEpiSlamTable(*e);
                    }});
   }
 

@@ -9,6 +9,7 @@
 #include <iostream>
 #include <iterator>
 #include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -17,6 +18,7 @@
 #include "core/rng.h"
 #include "core/version.h"
 #include "eval/trajectory_eval.h"
+#include "io/mask_format.h"
 #include "io/sequence.h"
 #include "io/trajectory.h"
 #include "pipeline/pipeline.h"
@@ -48,12 +50,42 @@ void Count(bool truth, bool rejected, int64_t& tp, int64_t& fp, int64_t& fn, int
   tp += truth && rejected, fp += !truth && rejected, fn += truth && !rejected, tn += !truth && !rejected;
 }
 
+// The instance masks a stage decided on against the ground truth: a detection mask's truth is the
+// ground-truth instance under most of its pixels (none: static), moving per SEQ/gt/moving.txt.
+void CountMasks(const FrameDetections& det, const FrameDetections& truth, const render::GtFrame& gf,
+                const std::map<int, bool>& kept, RunSummary& s) {
+  for (const auto& [id, keep] : kept) {
+    std::map<int, int64_t> votes;  // gt instance id -> pixels (ascending id: ties keep the lower)
+    if (!det.instance_ids.empty() && !gf.instance_ids.empty() && det.instance_ids.size() == gf.instance_ids.size())
+      for (int y = 0; y < det.instance_ids.rows; ++y) {
+        const uint16_t* d = det.instance_ids.ptr<uint16_t>(y);
+        const uint16_t* t = gf.instance_ids.ptr<uint16_t>(y);
+        for (int x = 0; x < det.instance_ids.cols; ++x)
+          if (d[x] == id && t[x] != 0) ++votes[t[x]];
+      }
+    int gt_id = 0;
+    int64_t best = 0;
+    for (const auto& [tid, n] : votes)
+      if (n > best) best = n, gt_id = tid;
+    const bool moving = gt_id != 0 && gf.moving.count(gt_id) > 0;
+    std::string gt_class;
+    for (const DetectedInstance& in : truth.instances)
+      if (in.id == gt_id) gt_class = in.class_name;
+    Count(moving, !keep, s.mask_tp, s.mask_fp, s.mask_fn, s.mask_tn);
+    if (gt_class == "person" && !moving) ++s.still_person_masks, s.still_person_kept += keep;
+    if (gt_id != 0 && gt_class != "person" && moving) ++s.moving_object_masks, s.moving_object_rejected += !keep;
+  }
+}
+
 // Precision/recall of the features (and frame lines) rejected by the config's stages against GT
 // motion labels: a feature is truly dynamic iff its pixel (a line: its midpoint) belongs to an
 // instance listed in SEQ/gt/moving.txt; "part" truth: that pixel itself moves (SEQ/gt/motion/).
-void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::string>& stages, RunSummary& s) {
+void RejectionPrecisionRecall(const std::string& seq_dir, const std::string& detections_dir,
+                              const std::set<std::string>& stages, RunSummary& s) {
   const Sequence seq = OpenSequence(seq_dir);
   render::GroundTruthLabels gt(seq_dir);
+  std::unique_ptr<DetectionsReader> detections;  // none: no mask decisions to score
+  if (fs::is_directory(detections_dir)) detections = std::make_unique<DetectionsReader>(detections_dir);
   trace::TraceReader reader(s.run_dir + "/trace.dtr");
   if (reader.level() != trace::Level::kFull) return;
   for (size_t g = 0; g < reader.groups().size(); ++g) {
@@ -68,9 +100,13 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::st
     std::set<int64_t> rejected;
     std::map<std::string, std::pair<double, double>> line_mid;  // the geometry record's segment midpoint
     std::set<std::string> line_rejected;
-    const std::string prefix = "f" + std::to_string(frame) + ".";
+    std::map<int, bool> mask_kept;  // detection instance id -> the stage's decision
+    const std::string prefix = "f" + std::to_string(frame) + ".", mask_prefix = "i" + std::to_string(frame) + ".";
     for (const trace::Record& r : reader.ReadGroup(g)) {
       const bool rejection = r.type == trace::RecordType::kDecision && !r.kept && stages.count(r.stage);
+      if (r.type == trace::RecordType::kDecision && stages.count(r.stage) && r.kind == trace::EntityKind::kInstanceMask &&
+          r.entity.rfind(mask_prefix, 0) == 0)
+        mask_kept[std::stoi(r.entity.substr(mask_prefix.size()))] = r.kept;
       if (r.type == trace::RecordType::kObservation) obs[r.feature_index] = {r.u, r.v};
       if (rejection && r.kind == trace::EntityKind::kFeature && r.entity.rfind(prefix, 0) == 0)
         rejected.insert(std::stoll(r.entity.substr(prefix.size())));
@@ -103,6 +139,8 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::st
       Count(gf.IsDynamic(uv.first, uv.second), rej, s.line_tp, s.line_fp, s.line_fn, s.line_tn);
       Count(moving_pixel(uv.first, uv.second), rej, s.line_part_tp, s.line_part_fp, s.line_part_fn, s.line_part_tn);
     }
+    if (!mask_kept.empty() && detections != nullptr && detections->Has(stamp))
+      CountMasks(detections->Read(stamp), gt.Read(stamp), gf, mask_kept, s);
   }
   s.has_pr = true;
 }
@@ -110,12 +148,17 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::set<std::st
 // RUN/rejection.json: the counts of RejectionPrecisionRecall, kept when the full trace is dropped.
 const char* const kRejectionFields[] = {"tp", "fp", "fn", "tn", "part_tp", "part_fp", "part_fn", "part_tn",
                                         "line_tp", "line_fp", "line_fn", "line_tn", "line_part_tp", "line_part_fp",
-                                        "line_part_fn", "line_part_tn"};
+                                        "line_part_fn", "line_part_tn", "mask_tp", "mask_fp", "mask_fn", "mask_tn",
+                                        "still_person_masks", "still_person_kept", "moving_object_masks",
+                                        "moving_object_rejected"};
 int64_t RunSummary::* const kRejectionCounts[] = {
     &RunSummary::tp,      &RunSummary::fp,      &RunSummary::fn,      &RunSummary::tn,
     &RunSummary::part_tp, &RunSummary::part_fp, &RunSummary::part_fn, &RunSummary::part_tn,
     &RunSummary::line_tp, &RunSummary::line_fp, &RunSummary::line_fn, &RunSummary::line_tn,
-    &RunSummary::line_part_tp, &RunSummary::line_part_fp, &RunSummary::line_part_fn, &RunSummary::line_part_tn};
+    &RunSummary::line_part_tp, &RunSummary::line_part_fp, &RunSummary::line_part_fn, &RunSummary::line_part_tn,
+    &RunSummary::mask_tp, &RunSummary::mask_fp, &RunSummary::mask_fn, &RunSummary::mask_tn,
+    &RunSummary::still_person_masks, &RunSummary::still_person_kept, &RunSummary::moving_object_masks,
+    &RunSummary::moving_object_rejected};
 static_assert(std::size(kRejectionFields) == std::size(kRejectionCounts));
 
 void WriteRejectionCounts(const RunSummary& s, const std::string& key) {
@@ -323,7 +366,7 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
     double stages = 0;
     const nlohmann::json timing_stages = run.value("timing_stages", nlohmann::json::object());
     for (const auto& [stage, ms] : timing_stages.items())
-      if (ms.is_number()) stages += ms.get<double>();
+      if (ms.is_number()) stages += ms.get<double>(), s.ms_modules["stage:" + stage] = ms.get<double>();
     s.ms_modules["stages"] = stages;
   }
   if (has_stages && stage_trace_level_ == "full") {
@@ -331,7 +374,7 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
     if (fs::exists(s.run_dir + "/trace.dtr")) {
       std::set<std::string> stages;
       for (const StageConfig& sc : config.stages) stages.insert(sc.name);
-      RejectionPrecisionRecall(seq_dir, stages, s);
+      RejectionPrecisionRecall(seq_dir, seq_dir + "/detections/" + spec_.detections, stages, s);
       if (mode_ == WorkMode::kMake) WriteRejectionCounts(s, key);
       if (!keep_full_traces_ && mode_ == WorkMode::kMake) fs::remove(s.run_dir + "/trace.dtr");
     } else if (!ReadRejectionCounts(s, key)) {

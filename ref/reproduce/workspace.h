@@ -41,12 +41,19 @@ struct RunSummary {
   // its pixel moves. Only runs whose frames have lines (backbone lines on) count any.
   int64_t line_tp = 0, line_fp = 0, line_fn = 0, line_tn = 0;
   int64_t line_part_tp = 0, line_part_fp = 0, line_part_fn = 0, line_part_tn = 0;
+  // Instance masks a stage decided on (kind instance_mask decisions, e.g. epi.vote's 60 % vote),
+  // truth: the ground-truth instance under most of the mask's pixels moves. Still people (a
+  // person instance that does not move, e.g. seated) and moving objects (a moving instance that is
+  // not a person, e.g. a pushed chair) are counted apart too.
+  int64_t mask_tp = 0, mask_fp = 0, mask_fn = 0, mask_tn = 0;
+  int64_t still_person_masks = 0, still_person_kept = 0, moving_object_masks = 0, moving_object_rejected = 0;
   bool has_rpe = false;     // RPE over 1 s (evaluate_rpe.py --fixed_delta --delta 1): m/s and deg/s
   ErrorStats rpe_trans, rpe_rot;
   double ms_slam = std::nan("");  // run.json timing: mean thread-CPU ms per frame (machine-dependent)
   double ms_total = std::nan("");
   std::string commit;  // run.json dynref_commit: the build that made the run (--collect may read older runs)
-  std::map<std::string, double> ms_modules;  // every run.json timing module, + "stages" (sum of timing_stages)
+  // every run.json timing module, + "stages" (sum of timing_stages) and "stage:<name>" per stage
+  std::map<std::string, double> ms_modules;
 };
 
 // Adds every precision/recall count of `from` (points, lines, both truths) to `to`.
