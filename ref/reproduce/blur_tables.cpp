@@ -4,13 +4,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
-#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/format.h"
 #include "core/version.h"
@@ -300,11 +298,8 @@ int RunBlurTable(const BlurTableArgs& a) {
       }
       paper.push_back(s);
     }
-    md << AteBarsSection(a.sequences, ours, paper, 4, SeedListText(a.seeds), a.out)
-       << PerSeedAteSection(a.sequences, ours, SeedListText(a.seeds));
+    FinishAteReport(md.str(), a.sequences, ours, paper, 4, SeedListText(a.seeds), a.out);
   }
-  AtomicWriteFile(a.out, md.str());
-  std::cout << "reproduce: wrote " << a.out << "\n";
   return kExitOk;
 }
 

@@ -2,11 +2,9 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <iostream>
 #include <map>
 #include <sstream>
 
-#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "reproduce/arg_checks.h"
@@ -296,11 +294,8 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
     for (const std::string& p : a.sequences)
       ps.per_group.push_back((Names(p).bonn ? p5 : p4).Cell(Names(p).table45, "OURS"));
     paper.push_back(ps);
-    md << AteBarsSection(a.sequences, ours, paper, 0, SeedListText(a.seeds), a.out)
-       << PerSeedAteSection(a.sequences, ours, SeedListText(a.seeds));
+    FinishAteReport(md.str(), a.sequences, ours, paper, 0, SeedListText(a.seeds), a.out);
   }
-  AtomicWriteFile(a.out, md.str());
-  std::cout << "reproduce: wrote " << a.out << "\n";
   return kExitOk;
 }
 

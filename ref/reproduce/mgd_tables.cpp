@@ -1,11 +1,9 @@
 #include "reproduce/mgd_tables.h"
 
 #include <filesystem>
-#include <iostream>
 #include <map>
 #include <sstream>
 
-#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "reproduce/arg_checks.h"
@@ -260,11 +258,8 @@ int RunMgdTable(const MgdTableArgs& a) {
       for (const std::string& preset : a.sequences) p.per_group.push_back((a.table == "table2" ? p2 : p4).Cell(PaperRow(preset), col));
       paper.push_back(p);
     }
-    md << AteBarsSection(a.sequences, ours, paper, 0, SeedListText(a.seeds), a.out)
-       << PerSeedAteSection(a.sequences, ours, SeedListText(a.seeds));
+    FinishAteReport(md.str(), a.sequences, ours, paper, 0, SeedListText(a.seeds), a.out);
   }
-  AtomicWriteFile(a.out, md.str());
-  std::cout << "reproduce: wrote " << a.out << "\n";
   return kExitOk;
 }
 

@@ -4,7 +4,9 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "eval/trajectory_eval.h"
 #include "io/trajectory.h"
@@ -135,6 +137,15 @@ std::string PerSeedAteSection(const std::vector<std::string>& groups, const std:
       md += " |\n";
     }
   return md;
+}
+
+void FinishAteReport(std::string md, const std::vector<std::string>& groups, const std::vector<SeedSeries>& ours,
+                     const std::vector<PaperSeries>& paper, size_t colour_offset, const std::string& seeds_text,
+                     const std::string& report) {
+  md += AteBarsSection(groups, ours, paper, colour_offset, seeds_text, report);
+  md += PerSeedAteSection(groups, ours, seeds_text);
+  AtomicWriteFile(report, md);
+  std::cout << "reproduce: wrote " << report << "\n";
 }
 
 }  // namespace dynref::reproduce

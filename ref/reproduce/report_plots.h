@@ -45,5 +45,10 @@ std::string AteBarsSection(const std::vector<std::string>& groups, const std::ve
 // "## Per seed: ATE RMSE (m)": one row per group and variant, the seeds' values in order.
 std::string PerSeedAteSection(const std::vector<std::string>& groups, const std::vector<SeedSeries>& ours,
                               const std::string& seeds_text);
+// A report's last step: appends AteBarsSection and PerSeedAteSection to `md`, writes `report`
+// atomically and says so on stdout.
+void FinishAteReport(std::string md, const std::vector<std::string>& groups, const std::vector<SeedSeries>& ours,
+                     const std::vector<PaperSeries>& paper, size_t colour_offset, const std::string& seeds_text,
+                     const std::string& report);
 
 }  // namespace dynref::reproduce

@@ -171,7 +171,7 @@ TEST_CASE("run: --threads 1, 2 and 4 give the same trajectory and trace dump (is
   CHECK_THROWS_AS(bad.Check(), InputError);
 }
 
-TEST_CASE("run: every method gives the same outputs and trace dump for --threads 1, 2 and 4 (issue 18)") {
+TEST_CASE("run: every method end to end gives the same outputs and trace dump for --threads 1, 2 and 4 (issue 18)") {
   // sgdo / epi: Lucas-Kanade slices; mgd: previous-frame matching and diffusion in chunks; epi:
   // enhancement rows; sgdo / semantic: dense back-projection bands (sgdo: also the incremental
   // filter's neighbour statistics); every method: ORB grid rows and descriptor chunks.
