@@ -180,10 +180,7 @@ TEST_CASE("epi reproduce: epi-table3 end to end on 30 frames (ATE, ablation, mas
       "--timing-sequence walking_static --work " + dir + "/w --out " + dir + "/t3.md");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
-  std::ifstream in(dir + "/t3.md");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string md = ss.str();
+  const std::string md = test::ReadFileBytes(dir + "/t3.md");
   INFO(md);
   // Paper values beside ours: Table 3 (w_static RMSE 0.0078), Table 6 (None 0.4094 ... ALL 0.0078).
   CHECK(md.find("| walking_static | normal light |") != std::string::npos);
