@@ -364,8 +364,10 @@ void OrbExtractor::Extract(const cv::Mat& grey, std::vector<cv::KeyPoint>* keys,
   std::vector<cv::Mat> blurred(static_cast<size_t>(options_.n_levels));
   ParallelFor(options_.n_levels, threads_, [&](int level) {
     if (all_keys[level].empty()) return;
-    blurred[level] = pyramid_[level].clone();  // a copy: the level is a view into its bordered buffer
-    cv::GaussianBlur(blurred[level], blurred[level], cv::Size(7, 7), 2, 2, cv::BORDER_REFLECT_101);
+    // The level is a view into its bordered buffer: BORDER_ISOLATED blurs it as the separate image
+    // ORB-SLAM2 clones, without the copy.
+    cv::GaussianBlur(pyramid_[level], blurred[level], cv::Size(7, 7), 2, 2,
+                     cv::BORDER_REFLECT_101 | cv::BORDER_ISOLATED);
   });
   constexpr int kChunk = 128;
   ParallelFor((n + kChunk - 1) / kChunk, threads_, [&](int chunk) {

@@ -1,13 +1,13 @@
 // ORB-SLAM2 LocalMapping (src/LocalMapping.cc) run sequentially; see local_mapper.h.
 #include "mapping/local_mapper.h"
 
-#include <Eigen/SVD>
 #include <time.h>
 #include <cmath>
 #include <set>
 
 #include "core/error.h"
 #include "features/orb_extractor.h"
+#include "geometry/triangulation.h"
 #include "optim/optim.h"
 
 namespace dynref::mapping {
@@ -189,15 +189,7 @@ int LocalMapper::CreateNewMapPoints(KeyFrame& kf) {
       const double cos_stereo = std::min(cos_stereo1, cos_stereo2);
       Eigen::Vector3d X;
       if (cos_rays < cos_stereo && cos_rays > 0 && (stereo1 || stereo2 || cos_rays < 0.9998)) {
-        Eigen::Matrix4d A;
-        A.row(0) = xn1.x() * P1.row(2) - P1.row(0);
-        A.row(1) = xn1.y() * P1.row(2) - P1.row(1);
-        A.row(2) = xn2.x() * P2.row(2) - P2.row(0);
-        A.row(3) = xn2.y() * P2.row(2) - P2.row(1);
-        Eigen::JacobiSVD<Eigen::Matrix4d> svd(A, Eigen::ComputeFullV);
-        const Eigen::Vector4d h = svd.matrixV().col(3);
-        if (h(3) == 0) continue;
-        X = h.head<3>() / h(3);
+        if (!geometry::TriangulateLinear(P1, P2, xn1.head<2>(), xn2.head<2>(), &X)) continue;
       } else if (stereo1 && cos_stereo1 < cos_stereo2) {
         X = kf.frame.UnprojectWorld(i1);
       } else if (stereo2 && cos_stereo2 < cos_stereo1) {

@@ -57,4 +57,10 @@ void CheckReportPaths(const std::string& out, const std::string& work) {
   CheckDirectoryPath(work, "--work");
 }
 
+void MakeReportFolders(const std::string& out, const std::string& work) {
+  const fs::path report_dir = fs::path(out).parent_path();
+  if (!report_dir.empty()) fs::create_directories(report_dir);
+  if (!work.empty()) fs::create_directories(work);
+}
+
 }  // namespace dynref::reproduce

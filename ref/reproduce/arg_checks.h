@@ -20,5 +20,7 @@ void CheckSeedList(const std::vector<uint64_t>& seeds);
 void CheckDetectionMode(const std::string& mode);
 // --out is a file path whose folder can be created, --work a folder path.
 void CheckReportPaths(const std::string& out, const std::string& work);
+// Once the arguments are checked: creates --out's folder and `work` (empty: none, e.g. --collect).
+void MakeReportFolders(const std::string& out, const std::string& work);
 
 }  // namespace dynref::reproduce

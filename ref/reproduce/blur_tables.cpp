@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -21,8 +20,6 @@
 #include "reproduce/report_format.h"
 #include "reproduce/report_plots.h"
 #include "reproduce/workspace.h"
-
-namespace fs = std::filesystem;
 
 namespace dynref::reproduce {
 namespace {
@@ -115,9 +112,7 @@ int RunBlurTable(const BlurTableArgs& a) {
   const PaperTable p2 = ReadPaperTable(PaperTableDir() + "/003-table2.csv");
   const PaperTable p3 = ReadPaperTable(PaperTableDir() + "/003-table3.csv");
   const PaperTable p4 = ReadPaperTable(PaperTableDir() + "/003-table4.csv");
-  const fs::path report_dir = fs::path(a.out).parent_path();
-  if (!report_dir.empty()) fs::create_directories(report_dir);
-  fs::create_directories(a.work);
+  MakeReportFolders(a.out, a.work);
 
   std::vector<MethodConfig> configs;
   for (const BlurVariant& v : variants) configs.push_back(VariantConfig(v));

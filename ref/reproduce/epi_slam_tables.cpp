@@ -1,7 +1,6 @@
 #include "reproduce/epi_slam_tables.h"
 
 #include <algorithm>
-#include <filesystem>
 #include <map>
 #include <sstream>
 
@@ -12,8 +11,6 @@
 #include "reproduce/report_format.h"
 #include "reproduce/report_plots.h"
 #include "reproduce/workspace.h"
-
-namespace fs = std::filesystem;
 
 namespace dynref::reproduce {
 namespace {
@@ -120,9 +117,7 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
   const PaperTable p5 = ReadPaperTable(PaperTableDir() + "/004-table5.csv");
   const PaperTable p6 = ReadPaperTable(PaperTableDir() + "/004-table6.csv");
   const PaperTable p7 = ReadPaperTable(PaperTableDir() + "/004-table7.csv");
-  const fs::path report_dir = fs::path(a.out).parent_path();
-  if (!report_dir.empty()) fs::create_directories(report_dir);
-  fs::create_directories(a.work);
+  MakeReportFolders(a.out, a.work);
   // The export writes keyframe images: not needed for the tables.
   std::map<std::string, MethodConfig> cfg;
   for (const Variant& v : AblationVariants()) cfg.emplace(v.config, LoadConfigWithout(v.config, {"epi.nerf"}));

@@ -94,9 +94,7 @@ void CheckArgs(const EpiTableArgs& a) {
 
 int RunEpiTable(const EpiTableArgs& a) {
   CheckArgs(a);
-  const fs::path report_dir = fs::path(a.out).parent_path();
-  if (!report_dir.empty()) fs::create_directories(report_dir);
-  fs::create_directories(a.work);
+  MakeReportFolders(a.out, a.work);
   const PaperTable paper = ReadPaperTable(PaperTableDir() + "/004-table" + (a.table == "table1" ? "1" : "2") + ".csv");
   const MethodConfig cfg = LoadMethodConfig(MethodConfigPath("epi"));
   epi::EnhanceStageOptions enhance;

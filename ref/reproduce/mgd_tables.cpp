@@ -1,6 +1,5 @@
 #include "reproduce/mgd_tables.h"
 
-#include <filesystem>
 #include <map>
 #include <sstream>
 
@@ -11,8 +10,6 @@
 #include "reproduce/report_format.h"
 #include "reproduce/report_plots.h"
 #include "reproduce/workspace.h"
-
-namespace fs = std::filesystem;
 
 namespace dynref::reproduce {
 namespace {
@@ -96,9 +93,7 @@ int RunMgdTable(const MgdTableArgs& a) {
   const PaperTable p4 = ReadPaperTable(PaperTableDir() + "/000-table4.csv");
   const PaperTable p5 = ReadPaperTable(PaperTableDir() + "/000-table5.csv");
   const PaperTable p6 = ReadPaperTable(PaperTableDir() + "/000-table6.csv");
-  const fs::path report_dir = fs::path(a.out).parent_path();
-  if (!report_dir.empty()) fs::create_directories(report_dir);
-  fs::create_directories(a.work);
+  MakeReportFolders(a.out, a.work);
   const bool ablations = a.table == "table2" && !a.no_ablations;
   const std::vector<MgdVariant>& main = MainVariants();
   const std::vector<MgdVariant>& cues = CueVariants();

@@ -52,22 +52,23 @@ void Count(bool truth, bool rejected, int64_t& tp, int64_t& fp, int64_t& fn, int
 
 // The instance masks a stage decided on against the ground truth: a detection mask's truth is the
 // ground-truth instance under most of its pixels (none: static), moving per SEQ/gt/moving.txt.
-void CountMasks(const FrameDetections& det, const FrameDetections& truth, const render::GtFrame& gf,
+void CountMasks(const FrameDetections& det, const FrameDetections& truth, const std::set<int>& moving_ids,
                 const std::map<int, bool>& kept, RunSummary& s) {
+  // detection id -> gt instance id -> pixels (ascending gt id: ties keep the lower), one pass.
+  std::map<int, std::map<int, int64_t>> votes;
+  if (!det.instance_ids.empty() && det.instance_ids.size() == truth.instance_ids.size())
+    for (int y = 0; y < det.instance_ids.rows; ++y) {
+      const uint16_t* d = det.instance_ids.ptr<uint16_t>(y);
+      const uint16_t* t = truth.instance_ids.ptr<uint16_t>(y);
+      for (int x = 0; x < det.instance_ids.cols; ++x)
+        if (d[x] != 0 && t[x] != 0 && kept.count(d[x]) != 0) ++votes[d[x]][t[x]];
+    }
   for (const auto& [id, keep] : kept) {
-    std::map<int, int64_t> votes;  // gt instance id -> pixels (ascending id: ties keep the lower)
-    if (!det.instance_ids.empty() && !gf.instance_ids.empty() && det.instance_ids.size() == gf.instance_ids.size())
-      for (int y = 0; y < det.instance_ids.rows; ++y) {
-        const uint16_t* d = det.instance_ids.ptr<uint16_t>(y);
-        const uint16_t* t = gf.instance_ids.ptr<uint16_t>(y);
-        for (int x = 0; x < det.instance_ids.cols; ++x)
-          if (d[x] == id && t[x] != 0) ++votes[t[x]];
-      }
     int gt_id = 0;
     int64_t best = 0;
-    for (const auto& [tid, n] : votes)
+    for (const auto& [tid, n] : votes[id])
       if (n > best) best = n, gt_id = tid;
-    const bool moving = gt_id != 0 && gf.moving.count(gt_id) > 0;
+    const bool moving = gt_id != 0 && moving_ids.count(gt_id) > 0;
     std::string gt_class;
     for (const DetectedInstance& in : truth.instances)
       if (in.id == gt_id) gt_class = in.class_name;
@@ -93,8 +94,9 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::string& det
     if (frame < 0 || frame >= static_cast<int64_t>(seq.frames.size())) continue;
     const std::string& stamp = seq.frames[static_cast<size_t>(frame)].rgb_stamp_text;
     if (!gt.Has(stamp)) continue;
+    const FrameDetections truth = gt.Read(stamp);
     render::GtFrame gf;
-    gf.instance_ids = gt.Read(stamp).instance_ids;
+    gf.instance_ids = truth.instance_ids;
     gf.moving = gt.Moving(stamp);
     std::map<int64_t, std::pair<double, double>> obs;
     std::set<int64_t> rejected;
@@ -140,7 +142,7 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::string& det
       Count(moving_pixel(uv.first, uv.second), rej, s.line_part_tp, s.line_part_fp, s.line_part_fn, s.line_part_tn);
     }
     if (!mask_kept.empty() && detections != nullptr && detections->Has(stamp))
-      CountMasks(detections->Read(stamp), gt.Read(stamp), gf, mask_kept, s);
+      CountMasks(detections->Read(stamp), truth, gf.moving, mask_kept, s);
   }
   s.has_pr = true;
 }

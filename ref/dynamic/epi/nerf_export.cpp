@@ -1,8 +1,9 @@
 #include "dynamic/epi/nerf_export.h"
 
-#include <Eigen/SVD>
 #include <cmath>
 #include <stdexcept>
+
+#include "geometry/triangulation.h"
 
 namespace dynref::epi {
 
@@ -43,16 +44,9 @@ Triangulated TriangulateDlt(const Intrinsics& K, const SE3& T_cw0, const SE3& T_
   const Eigen::Vector3d r1 = T_cw1.linear().transpose() *
                              Eigen::Vector3d((x1.x() - K.cx) / K.fx, (x1.y() - K.cy) / K.fy, 1.0);
   if (r0.dot(r1) / (r0.norm() * r1.norm()) >= gates.parallax_cos_max) return Triangulated::kParallax;
-  const Eigen::Matrix<double, 3, 4> P0 = Projection(K, T_cw0), P1 = Projection(K, T_cw1);
-  Eigen::Matrix4d A;
-  A.row(0) = x0.x() * P0.row(2) - P0.row(0);
-  A.row(1) = x0.y() * P0.row(2) - P0.row(1);
-  A.row(2) = x1.x() * P1.row(2) - P1.row(0);
-  A.row(3) = x1.y() * P1.row(2) - P1.row(1);
-  const Eigen::JacobiSVD<Eigen::Matrix4d> svd(A, Eigen::ComputeFullV);
-  const Eigen::Vector4d h = svd.matrixV().col(3);
-  if (std::abs(h(3)) < 1e-12) return Triangulated::kDegenerate;
-  const Eigen::Vector3d Xw = h.head<3>() / h(3);
+  Eigen::Vector3d Xw;
+  if (!geometry::TriangulateLinear(Projection(K, T_cw0), Projection(K, T_cw1), x0, x1, &Xw))
+    return Triangulated::kDegenerate;
   const Eigen::Vector3d c0 = T_cw0 * Xw, c1 = T_cw1 * Xw;
   if (!(c0.z() > 0) || !(c1.z() > 0)) return Triangulated::kBehind;
   const double e0 = (K.Project(c0) - x0).norm(), e1 = (K.Project(c1) - x1).norm();

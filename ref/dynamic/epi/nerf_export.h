@@ -31,9 +31,8 @@ struct TriangulationGates {
 enum class Triangulated { kOk = 0, kParallax = 1, kBehind = 2, kReprojection = 3, kDegenerate = 4 };
 const char* TriangulatedName(Triangulated t);
 
-// Linear triangulation (Hartley & Zisserman 12.2): rows u P^3 - P^1, v P^3 - P^2 of both views,
-// X = the right singular vector of the smallest singular value, dehomogenised. x0, x1 are
-// undistorted pixels, T_cw the world-to-camera poses, K the pinhole part.
+// Linear triangulation (geometry/triangulation.h) of undistorted pixels x0, x1 seen from the
+// world-to-camera poses T_cw0, T_cw1 through the pinhole K, then the gates.
 Triangulated TriangulateDlt(const Intrinsics& K, const SE3& T_cw0, const SE3& T_cw1, const Eigen::Vector2d& x0,
                             const Eigen::Vector2d& x1, const TriangulationGates& gates, Eigen::Vector3d* X);
 

@@ -1,6 +1,6 @@
 // epi.nerf (map module): seed 004 Sec. 3.3.2, the NeRF thread's input (nerf_export.h). Each
 // keyframe keeps its colour image, the masks epi.vote declared dynamic and its static keypoints
-// (those no stage excluded and outside every dynamic mask). At the end of the run, with the final
+// (those no stage excluded: epi.vote excludes every keypoint of a dynamic mask). At the end of the run, with the final
 // keyframe poses, each keyframe is matched to the previous surviving one by MNN2 on the ORB
 // descriptors, the matches are triangulated (DLT + gates) into the pseudo-point cloud, and
 // RUN/nerf/ is written: images/<stamp>.png, masks/<stamp>.png (nerfstudio: 255 = use the pixel,
@@ -39,16 +39,12 @@ void NerfModule::OnKeyFrame(const MapModuleContext& ctx) {
   Keyframe k;
   k.stamp_text = f.stamp_text;
   k.rgb = f.rgb.clone();
-  if (board_->Has(f)) k.dynamic_mask = board_->dynamic_mask.clone();
+  if (board_->Has(f)) k.dynamic_mask = board_->DynamicMask();
+  // Static keypoints: epi.vote has excluded every keypoint of a mask it voted dynamic.
   std::vector<int> rows;
   for (int i = 0; i < static_cast<int>(f.N()); ++i) {
     if (f.IsExcluded(i)) continue;
-    const cv::Point2f& p = f.keys[static_cast<size_t>(i)].pt;
-    const int x = static_cast<int>(p.x), y = static_cast<int>(p.y);
-    if (!k.dynamic_mask.empty() && x >= 0 && y >= 0 && x < k.dynamic_mask.cols && y < k.dynamic_mask.rows &&
-        k.dynamic_mask.at<uint8_t>(y, x) != 0)
-      continue;
-    k.raw.push_back(p);
+    k.raw.push_back(f.keys[static_cast<size_t>(i)].pt);
     k.un.push_back(f.keys_un[static_cast<size_t>(i)].pt);
     rows.push_back(i);
   }

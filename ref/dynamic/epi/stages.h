@@ -11,6 +11,7 @@
 // Module B (learned float descriptors + MNN2) is not built: the backbone matches ORB only.
 #pragma once
 #include <map>
+#include <set>
 #include <memory>
 #include <string>
 #include <vector>
@@ -71,12 +72,15 @@ class EnhanceStage : public Stage {
   SequenceEnhancer enhancer_;
 };
 
-// What epi.vote leaves for epi.nerf: the current frame's pixels of the masks voted dynamic.
+// What epi.vote leaves for epi.nerf: the current frame's instance labels and the ids voted
+// dynamic (epi.nerf draws the pixel mask at keyframes only).
 struct Blackboard {
   int frame_index = -1;
   std::string stamp_text;
-  cv::Mat dynamic_mask;  // CV_8U, 255 = a pixel of a mask voted dynamic
+  cv::Mat instance_labels;       // CV_16U (geometry::DynamicMask), empty: no mask
+  std::set<int> dynamic_ids;     // instances voted dynamic
   bool Has(const Frame& f) const { return frame_index == f.index && stamp_text == f.stamp_text; }
+  cv::Mat DynamicMask() const;   // CV_8U, 255 = a pixel of an instance voted dynamic
 };
 constexpr const char* kBoardKey = "epi.board";
 
@@ -110,7 +114,7 @@ class NerfModule : public MapModule {
     std::string stamp_text;
     cv::Mat rgb;                      // BGR as read
     cv::Mat dynamic_mask;             // CV_8U 255 = dynamic (empty: none)
-    std::vector<cv::Point2f> raw, un;  // static keypoints (raw and undistorted pixels)
+    std::vector<cv::Point2f> raw, un;  // keypoints no stage excluded (raw and undistorted pixels)
     cv::Mat descriptors;              // their rows
   };
   std::shared_ptr<Blackboard> board_;

@@ -130,20 +130,28 @@ void VoteStage::Run(StageContext& ctx) {
   }
   int64_t dynamic_masks = 0;
   for (const auto& [id, v] : votes) dynamic_masks += v.dynamic;
-  // For epi.nerf: the pixels of the masks voted dynamic.
+  // For epi.nerf: the labels (a fresh image per frame, shared, not copied) and the dynamic ids.
   board_->frame_index = f.index;
   board_->stamp_text = f.stamp_text;
-  board_->dynamic_mask = cv::Mat::zeros(cam.height, cam.width, CV_8U);
-  if (dynamic_masks > 0 && !m.instance_labels.empty())
-    for (int y = 0; y < m.instance_labels.rows; ++y) {
-      const uint16_t* label = m.instance_labels.ptr<uint16_t>(y);
-      uint8_t* out = board_->dynamic_mask.ptr<uint8_t>(y);
-      for (int x = 0; x < m.instance_labels.cols; ++x)
-        if (label[x] != 0 && votes.count(label[x]) != 0 && votes.at(label[x]).dynamic) out[x] = 255;
-    }
+  board_->instance_labels = m.instance_labels;
+  board_->dynamic_ids.clear();
+  for (const auto& [id, v] : votes)
+    if (v.dynamic) board_->dynamic_ids.insert(id);
   tr.FrameCount(name(), "masks", int64_t(votes.size()));
   tr.FrameCount(name(), "dynamic_masks", dynamic_masks);
   tr.FrameCount(name(), "keypoints_removed", removed);
+}
+
+cv::Mat Blackboard::DynamicMask() const {
+  if (instance_labels.empty() || dynamic_ids.empty()) return cv::Mat();
+  cv::Mat mask = cv::Mat::zeros(instance_labels.size(), CV_8U);
+  for (int y = 0; y < instance_labels.rows; ++y) {
+    const uint16_t* label = instance_labels.ptr<uint16_t>(y);
+    uint8_t* out = mask.ptr<uint8_t>(y);
+    for (int x = 0; x < instance_labels.cols; ++x)
+      if (label[x] != 0 && dynamic_ids.count(label[x]) != 0) out[x] = 255;
+  }
+  return mask;
 }
 
 }  // namespace dynref::epi
