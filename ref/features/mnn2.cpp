@@ -41,11 +41,9 @@ cv::Mat Distances(const cv::Mat& a, const cv::Mat& b) {
 
 }  // namespace
 
-std::vector<DescriptorMatch> MatchMnn2(const cv::Mat& D0, const cv::Mat& D1, const Mnn2Options& o) {
+std::vector<DescriptorMatch> SelectMnn2(const cv::Mat& d, double tau, const Mnn2Options& o) {
   std::vector<DescriptorMatch> out;
-  if (D0.empty() || D1.empty()) return out;
-  const cv::Mat d = Distances(D0, D1);
-  const double tau = D0.type() == CV_8U ? double(o.tau_bits) : o.tau_float;
+  if (d.empty()) return out;
   std::vector<int> reverse(size_t(d.cols), -1);  // nearest row of D0 for each column
   for (int j = 0; j < d.cols; ++j) {
     double best = std::numeric_limits<double>::infinity();
@@ -66,6 +64,11 @@ std::vector<DescriptorMatch> MatchMnn2(const cv::Mat& D0, const cv::Mat& D1, con
     out.push_back({i, j1, b1, b2});
   }
   return out;
+}
+
+std::vector<DescriptorMatch> MatchMnn2(const cv::Mat& D0, const cv::Mat& D1, const Mnn2Options& o) {
+  if (D0.empty() || D1.empty()) return {};
+  return SelectMnn2(Distances(D0, D1), D0.type() == CV_8U ? double(o.tau_bits) : o.tau_float, o);
 }
 
 std::vector<DescriptorMatch> MatchNearest(const cv::Mat& D0, const cv::Mat& D1) {

@@ -20,6 +20,15 @@ struct Mnn2Options {
   bool mutual = true;
 };
 
+// The backbone's use of MNN2 (backbone keys mnn2_matching, mnn2_ratio): when enabled it replaces
+// ORB-SLAM2's brute-force rule (nearest <= TH_LOW, ratio, first come) in keyframe-to-frame
+// matching (tracking/matcher.h SearchByBruteForce) and in the triangulation search of local
+// mapping, with gate tau = the profile's TH_HIGH equivalent (spec 004 (c)).
+struct BackboneMnn2 {
+  bool enabled = false;
+  double ratio = 0.95;  // rho, paper Sec. 4.2
+};
+
 struct DescriptorMatch {
   int i = 0, j = 0;      // query row in D0, train row in D1
   double distance = 0;   // squared L2 (float) or Hamming bits (binary)
@@ -28,6 +37,9 @@ struct DescriptorMatch {
 
 // D0, D1: CV_32F (float) or CV_8U (binary, one bit string per row); same type and width.
 std::vector<DescriptorMatch> MatchMnn2(const cv::Mat& D0, const cv::Mat& D1, const Mnn2Options& o);
+// The MNN2 rules on a precomputed CV_64F distance matrix (rows: D0, columns: D1) with gate tau;
+// the backbone's matchers use it on the candidates they allow (tracking/matcher.h).
+std::vector<DescriptorMatch> SelectMnn2(const cv::Mat& distances, double tau, const Mnn2Options& o);
 // Plain nearest neighbour ("BF" in Table 2): every row of D0 to its nearest row of D1, no test.
 std::vector<DescriptorMatch> MatchNearest(const cv::Mat& D0, const cv::Mat& D1);
 

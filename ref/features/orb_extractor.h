@@ -12,6 +12,8 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "features/descriptor.h"
+
 namespace dynref::features {
 
 struct OrbOptions {
@@ -54,24 +56,5 @@ class OrbExtractor {
   std::vector<cv::Mat> pyramid_border_; // bordered buffers (EDGE_THRESHOLD on each side)
   int threads_ = 1;
 };
-
-// Hamming distance of two 32-byte descriptors (ORBmatcher::DescriptorDistance).
-int DescriptorDistance(const uint8_t* a, const uint8_t* b);
-inline int DescriptorDistance(const cv::Mat& a, const cv::Mat& b) {
-  return DescriptorDistance(a.ptr<uint8_t>(0), b.ptr<uint8_t>(0));
-}
-
-// ORBmatcher thresholds.
-constexpr int kThHigh = 100;
-constexpr int kThLow = 50;
-constexpr int kHistoLength = 30;
-
-// ORBmatcher rotation histogram: bin of an angle difference. ORB-SLAM2 computes
-// bin = round(rot * (1/HISTO_LENGTH)) with rot in degrees, i.e. 30-degree bins (only 12 of the
-// 30 bins are used); reproduced as published.
-int RotationBin(float angle1_deg, float angle2_deg);
-// ORBmatcher::ComputeThreeMaxima: indices of the three fullest bins (-1 when a bin holds less
-// than 10 % of the fullest).
-void ComputeThreeMaxima(const std::vector<std::vector<int>>& histo, int* ind1, int* ind2, int* ind3);
 
 }  // namespace dynref::features

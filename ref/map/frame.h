@@ -1,5 +1,5 @@
 // One RGB-D frame as ORB-SLAM2's Frame (RGB-D constructor): keypoints (raw and undistorted),
-// rBRIEF descriptors, depth per keypoint, the virtual right coordinate u_R = u_L - bf/z, the
+// descriptors (rBRIEF or a float plug-in's, issue 17), depth per keypoint, the virtual right coordinate u_R = u_L - bf/z, the
 // matched map point per keypoint, and the per-feature method state (exclusion and weight) every
 // dynamic method writes through the stage hooks.
 //
@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/se3.h"
+#include "features/descriptor.h"
 #include "io/camera.h"
 #include "io/mask_format.h"
 #include "map/structure.h"
@@ -50,7 +51,8 @@ class Frame {
 
   std::vector<cv::KeyPoint> keys;     // as detected (distorted image)
   std::vector<cv::KeyPoint> keys_un;  // undistorted (== keys without distortion)
-  cv::Mat descriptors;                // N x 32 CV_8U
+  cv::Mat descriptors;                // N rows: CV_8U bit strings (ORB: 32 bytes) or CV_32F unit rows
+  features::DescriptorProfile match_profile;  // units of the matchers' gates, orientation (extractor)
   std::vector<float> depth;           // metres per key, <= 0 none
   std::vector<float> u_right;         // virtual right u per key, < 0 none
   std::vector<int64_t> map_point_ids; // matched map point per key, -1 none

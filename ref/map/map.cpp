@@ -2,6 +2,7 @@
 #include "map/map.h"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 #include "core/stable_sort.h"
@@ -230,29 +231,29 @@ void Map::UpdatePointDescriptor(int64_t mp_id) {
   // distance to all others.
   MapPoint* p = mp(mp_id);
   if (p == nullptr || p->bad) return;
-  std::vector<const uint8_t*> descs;
+  std::vector<std::pair<const cv::Mat*, int>> descs;  // (descriptor matrix, row)
   for (const auto& [kf_id, idx] : p->observations) {
     const KeyFrame* k = kf(kf_id);
-    if (k != nullptr && !k->bad) descs.push_back(k->frame.descriptors.ptr<uint8_t>(idx));
+    if (k != nullptr && !k->bad) descs.emplace_back(&k->frame.descriptors, idx);
   }
   if (descs.empty()) return;
   const size_t n = descs.size();
-  std::vector<std::vector<int>> d(n, std::vector<int>(n, 0));
+  std::vector<std::vector<float>> d(n, std::vector<float>(n, 0));
   for (size_t i = 0; i < n; ++i)
-    for (size_t j = i + 1; j < n; ++j) d[i][j] = d[j][i] = features::DescriptorDistance(descs[i], descs[j]);
-  int best_median = INT32_MAX;
+    for (size_t j = i + 1; j < n; ++j)
+      d[i][j] = d[j][i] = features::RowDistance(*descs[i].first, descs[i].second, *descs[j].first, descs[j].second);
+  float best_median = std::numeric_limits<float>::infinity();
   size_t best = 0;
   for (size_t i = 0; i < n; ++i) {
-    std::vector<int> row = d[i];
+    std::vector<float> row = d[i];
     std::sort(row.begin(), row.end());
-    const int median = row[static_cast<size_t>(0.5 * (n - 1))];
+    const float median = row[static_cast<size_t>(0.5 * (n - 1))];
     if (median < best_median) {
       best_median = median;
       best = i;
     }
   }
-  p->descriptor = cv::Mat(1, 32, CV_8U);
-  std::copy(descs[best], descs[best] + 32, p->descriptor.ptr<uint8_t>(0));
+  p->descriptor = descs[best].first->row(descs[best].second).clone();
 }
 
 void Map::UpdatePointNormalAndDepth(int64_t mp_id) {

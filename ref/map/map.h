@@ -22,7 +22,7 @@ class MapPoint {
   Eigen::Vector3d X_w = Eigen::Vector3d::Zero();
   std::map<int64_t, int> observations;  // keyframe id -> keypoint index in that keyframe
   int n_obs = 0;  // ORB-SLAM2 Observations(): an RGB-D (u_right >= 0) observation counts 2
-  cv::Mat descriptor;                   // 1 x 32, the most representative (ORB-SLAM2)
+  cv::Mat descriptor;                   // 1 row of the frames' type, the most representative (ORB-SLAM2)
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // mean viewing direction
   float min_distance = 0, max_distance = 0;          // scale invariance distances
   int64_t ref_kf = -1;          // reference keyframe id

@@ -6,15 +6,15 @@
 #include <set>
 
 #include "core/error.h"
-#include "features/orb_extractor.h"
+#include "features/descriptor.h"
+#include "trace/trace_writer.h"
 #include "geometry/triangulation.h"
 #include "optim/optim.h"
 
 namespace dynref::mapping {
 namespace {
 
-using features::DescriptorDistance;
-using features::kThLow;
+using features::RowDistance;
 
 Eigen::Matrix3d Skew(const Eigen::Vector3d& v) {
   Eigen::Matrix3d S;
@@ -48,9 +48,13 @@ bool CheckDistEpipolarLine(const cv::KeyPoint& kp1, const cv::KeyPoint& kp2, con
 
 // ORB-SLAM2 ORBmatcher::SearchForTriangulation (bOnlyStereo = false) by brute force over the
 // features of both keyframes that have no map point (no vocabulary; see tracking/matcher.h).
+// With mnn2.enabled the descriptor rule is seed 004's MNN2 over the same candidates (mutual
+// nearest, ratio rho, gate TH_HIGH equivalent), the geometric tests unchanged; every accepted pair
+// is traced (stage match.mnn2.triangulation) at trace level full.
 std::vector<std::pair<int, int>> SearchForTriangulation(const KeyFrame& k1, const KeyFrame& k2,
                                                         const Eigen::Matrix3d& F12, const Map& map,
-                                                        const Camera& cam) {
+                                                        const Camera& cam, const features::BackboneMnn2& mnn2,
+                                                        trace::TraceWriter& trace) {
   const Eigen::Vector3d C2 = k2.T_cw * k1.CameraCentre();
   const double ex = cam.fx * C2.x() / C2.z() + cam.cx, ey = cam.fy * C2.y() / C2.z() + cam.cy;
   auto free_feature = [&](const KeyFrame& k, size_t i) {
@@ -58,35 +62,60 @@ std::vector<std::pair<int, int>> SearchForTriangulation(const KeyFrame& k1, cons
     const int64_t id = k.map_point_ids[i];
     return id < 0 || map.good_mp(id) == nullptr;
   };
-  std::vector<int> cand2;
+  std::vector<int> cand1, cand2;
+  for (size_t i = 0; i < k1.N(); ++i)
+    if (free_feature(k1, i)) cand1.push_back(static_cast<int>(i));
   for (size_t j = 0; j < k2.N(); ++j)
     if (free_feature(k2, j)) cand2.push_back(static_cast<int>(j));
-  std::vector<int> matched2(k2.N(), -1);
+  const cv::Mat& D1 = k1.frame.descriptors;
+  const cv::Mat& D2 = k2.frame.descriptors;
+  // The geometric tests of a candidate pair.
+  auto geometric_ok = [&](int i, int j) {
+    const cv::KeyPoint& kp2 = k2.frame.keys_un[j];
+    if (k1.frame.u_right[i] < 0 && k2.frame.u_right[j] < 0) {
+      const double dx = ex - kp2.pt.x, dy = ey - kp2.pt.y;
+      if (dx * dx + dy * dy < 100 * k2.frame.pyramid.scale[kp2.octave]) return false;
+    }
+    return CheckDistEpipolarLine(k1.frame.keys_un[i], kp2, F12, k2);
+  };
   std::vector<std::pair<int, int>> pairs;
-  for (size_t i = 0; i < k1.N(); ++i) {
-    if (!free_feature(k1, i)) continue;
-    const cv::KeyPoint& kp1 = k1.frame.keys_un[i];
-    const bool stereo1 = k1.frame.u_right[i] >= 0;
-    const uint8_t* d1 = k1.frame.descriptors.ptr<uint8_t>(static_cast<int>(i));
-    int best_dist = kThLow, best_idx = -1;
+  if (mnn2.enabled) {
+    cv::Mat d(static_cast<int>(cand1.size()), static_cast<int>(cand2.size()), CV_64F);
+    for (size_t a = 0; a < cand1.size(); ++a)
+      for (size_t b = 0; b < cand2.size(); ++b)
+        d.at<double>(static_cast<int>(a), static_cast<int>(b)) = RowDistance(D1, cand1[a], D2, cand2[b]);
+    features::Mnn2Options o;
+    o.ratio = mnn2.ratio;
+    const double tau = k1.frame.match_profile.th_high;
+    for (const features::DescriptorMatch& m : features::SelectMnn2(d, tau, o)) {
+      const int i = cand1[static_cast<size_t>(m.i)], j = cand2[static_cast<size_t>(m.j)];
+      if (!geometric_ok(i, j)) continue;
+      pairs.emplace_back(i, j);
+      if (trace.full_enabled())
+        trace.ProbabilityUpdate("match.mnn2.triangulation", trace::EntityKind::kFeature, k2.frame.FeatureId(j),
+                                {{"kf", double(k1.id)}, {"kf_feature", double(i)}, {"distance", m.distance},
+                                 {"second", m.second}, {"ratio", m.second > 0 ? m.distance / m.second : 0.0}, {"tau", tau}},
+                                0.0, 0.0);
+    }
+    return pairs;
+  }
+  const float th_low = k1.frame.match_profile.th_low;
+  std::vector<int> matched2(k2.N(), -1);
+  for (int i : cand1) {
+    float best_dist = th_low;
+    int best_idx = -1;
     for (int j : cand2) {
       if (matched2[j] >= 0) continue;
-      const int dist = DescriptorDistance(d1, k2.frame.descriptors.ptr<uint8_t>(j));
-      if (dist > kThLow || dist > best_dist) continue;
-      const cv::KeyPoint& kp2 = k2.frame.keys_un[j];
-      const bool stereo2 = k2.frame.u_right[j] >= 0;
-      if (!stereo1 && !stereo2) {
-        const double dx = ex - kp2.pt.x, dy = ey - kp2.pt.y;
-        if (dx * dx + dy * dy < 100 * k2.frame.pyramid.scale[kp2.octave]) continue;
-      }
-      if (CheckDistEpipolarLine(kp1, kp2, F12, k2)) {
+      const float dist = RowDistance(D1, i, D2, j);
+      if (dist > th_low || dist > best_dist) continue;
+      if (geometric_ok(i, j)) {
         best_idx = j;
         best_dist = dist;
       }
     }
     if (best_idx >= 0) {
-      matched2[best_idx] = static_cast<int>(i);
-      pairs.emplace_back(static_cast<int>(i), best_idx);
+      matched2[best_idx] = i;
+      pairs.emplace_back(i, best_idx);
     }
   }
   // No rotation-consistency check: LocalMapping::CreateNewMapPoints builds its matcher with
@@ -167,7 +196,7 @@ int LocalMapper::CreateNewMapPoints(KeyFrame& kf) {
     const Eigen::Vector3d O2 = k2->CameraCentre();
     if ((O2 - O1).norm() < cam.baseline_m()) continue;
     const Eigen::Matrix3d F12 = ComputeF12(kf, *k2, cam);
-    const auto matches = SearchForTriangulation(kf, *k2, F12, map_, cam);
+    const auto matches = SearchForTriangulation(kf, *k2, F12, map_, cam, options_.mnn2, trace_);
     const Eigen::Matrix<double, 3, 4> P1 = kf.T_cw.matrix().topRows<3>();
     const Eigen::Matrix<double, 3, 4> P2 = k2->T_cw.matrix().topRows<3>();
     for (const auto& [i1, i2] : matches) {
@@ -251,8 +280,8 @@ int LocalMapper::Fuse(KeyFrame& target, const std::vector<int64_t>& points, floa
     const int level = p->PredictScale(static_cast<float>(dist), pyr);
     const float radius = th * pyr.scale[level];
     const std::vector<int> idx = target.frame.FeaturesInArea(static_cast<float>(u), static_cast<float>(v), radius);
-    const uint8_t* d_mp = p->descriptor.ptr<uint8_t>(0);
-    int best_dist = 256, best_idx = -1;
+    float best_dist = target.frame.match_profile.worst;
+    int best_idx = -1;
     for (int j : idx) {
       const cv::KeyPoint& kp = target.frame.keys_un[j];
       if (kp.octave < level - 1 || kp.octave > level) continue;
@@ -263,13 +292,13 @@ int LocalMapper::Fuse(KeyFrame& target, const std::vector<int64_t>& points, floa
       } else if ((ex * ex + ey * ey) * pyr.inv_sigma2[kp.octave] > 5.99) {
         continue;
       }
-      const int d = DescriptorDistance(d_mp, target.frame.descriptors.ptr<uint8_t>(j));
+      const float d = RowDistance(p->descriptor, 0, target.frame.descriptors, j);
       if (d < best_dist) {
         best_dist = d;
         best_idx = j;
       }
     }
-    if (best_idx < 0 || best_dist > kThLow) continue;
+    if (best_idx < 0 || best_dist > target.frame.match_profile.th_low) continue;
     const int64_t in_kf = target.map_point_ids[best_idx];
     const MapPoint* q = in_kf >= 0 ? map_.good_mp(in_kf) : nullptr;
     if (q != nullptr) {

@@ -9,6 +9,7 @@
 #include <mutex>
 #include <vector>
 
+#include "features/mnn2.h"
 #include "map/map.h"
 #include "optim/optim.h"
 #include "structure/structure_tracker.h"
@@ -22,6 +23,7 @@ struct LocalMapperOptions {
   bool keyframe_culling = true;
   double redundancy = 0.9;               // ORB-SLAM2 KeyFrameCulling: > 90 % redundant
   optim::LocalBAOptions ba;              // ORB-SLAM2 Optimizer::LocalBundleAdjustment (5 + 10 iterations)
+  features::BackboneMnn2 mnn2;           // seed 004 MNN2 in the triangulation search (off: ORB-SLAM2)
   void Check() const;
 };
 

@@ -13,13 +13,24 @@ struct KeyRow {
   const char* key;
   const char* default_value;
   const char* source;
-  enum class Kind { kInt, kDouble, kBool } kind;
-  double lo, hi;        // inclusive range (kInt: checked before the int conversion); unused for kBool
+  enum class Kind { kInt, kDouble, kBool, kText } kind;
+  double lo, hi;        // inclusive range (kInt: checked before the int conversion); unused for kBool, kText
   bool lo_open;         // kDouble: lo excluded (e.g. scale_factor > 1)
-  std::function<void(BackboneOptions&, double)> set;
+  std::function<void(BackboneOptions&, double)> set;  // kInt, kDouble, kBool
+  // kText: the allowed values separated by '|' (nullptr = any text) and the setter, which gets
+  // the text and the config file it came from (paths are relative to that file's folder).
+  const char* choices = nullptr;
+  std::function<void(BackboneOptions&, const std::string&, const std::string&)> set_text = nullptr;
 };
 
 using K = KeyRow::Kind;
+
+// A relative path read from a config file, as a path from the working directory.
+std::string RelativeTo(const std::string& config_file, const std::string& path) {
+  if (path.empty() || path[0] == '/' || config_file.empty()) return path;
+  const size_t slash = config_file.find_last_of('/');
+  return slash == std::string::npos ? path : config_file.substr(0, slash + 1) + path;
+}
 const double kMaxExactInt = 9007199254740992.0;  // 2^53: every integer below is exact in a double
 
 // ORB-SLAM2 defaults (Examples/RGB-D/TUM*.yaml, src/Tracking.cc, src/Optimizer.cc). Ranges:
@@ -52,6 +63,23 @@ const std::vector<KeyRow>& Rows() {
        "of its depth gets no depth (monocular point): corners on silhouettes otherwise take either side's depth "
        "(a 3-5 % scale bias on static_lowtexture, reports/structure_bench.md)",
        K::kDouble, 0, 1, false, [](BackboneOptions& o, double v) { o.depth_edge_rel = v; }},
+      {"descriptor_th_high", "0",
+       "dynref (issue 17): projection-search gate in the extractor's distance units; 0 = the extractor's own "
+       "(orb: ORBmatcher TH_HIGH 100 bits; sift: 0.60 squared L2 of unit rows; onnx: 4 * 100 / 256 squared L2, spec 004 (c))",
+       K::kDouble, 0, 1e9, false, [](BackboneOptions& o, double v) { o.extractor.th_high = v; }},
+      {"descriptor_th_low", "0",
+       "dynref (issue 17): keyframe-matching / triangulation / fusion gate in the extractor's units; 0 = the extractor's "
+       "own (orb: ORBmatcher TH_LOW 50 bits; sift: 0.20; onnx: 4 * 50 / 256)",
+       K::kDouble, 0, 1e9, false, [](BackboneOptions& o, double v) { o.extractor.th_low = v; }},
+      {"descriptor_th_reloc", "0",
+       "dynref (issue 17): relocalisation refinement gate; 0 = the extractor's own (orb: Tracking::Relocalization 64 "
+       "bits; sift: 0.30; onnx: 4 * 64 / 256)",
+       K::kDouble, 0, 1e9, false, [](BackboneOptions& o, double v) { o.extractor.th_reloc = v; }},
+      {"features", "orb",
+       "default: ORB-SLAM2's ORBextractor; sift = OpenCV SIFT (float descriptors), onnx = a SuperPoint-style network "
+       "(onnx_* keys) (issue 17, seed 004 module B; ref/features/keypoint_extractor.h)",
+       K::kText, 0, 0, false, nullptr, "orb|sift|onnx",
+       [](BackboneOptions& o, const std::string& v, const std::string&) { o.extractor.type = v; }},
       {"ini_th_fast", "20", "default: ORB-SLAM2 ORBextractor.iniThFAST", K::kInt, 1, 255, false,
        [](BackboneOptions& o, double v) { o.orb.ini_th_fast = static_cast<int>(v); }},
       {"keyframe_culling", "true", "default: ORB-SLAM2 LocalMapping::KeyFrameCulling", K::kBool, 0, 0, false,
@@ -113,6 +141,12 @@ const std::vector<KeyRow>& Rows() {
        [](BackboneOptions& o, double v) { o.tracker.min_init_points = static_cast<int>(v); }},
       {"min_th_fast", "7", "default: ORB-SLAM2 ORBextractor.minThFAST", K::kInt, 1, 255, false,
        [](BackboneOptions& o, double v) { o.orb.min_th_fast = static_cast<int>(v); }},
+      {"mnn2_matching", "false",
+       "dynref (issue 17): false = ORB-SLAM2's brute-force rule; true = seed 004 MNN2 (Sec. 3.2: ratio, absolute gate "
+       "TH_HIGH equivalent, mutual check) in keyframe-to-frame matching and the triangulation search",
+       K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.tracker.mnn2.enabled = o.mapper.mnn2.enabled = v != 0; }},
+      {"mnn2_ratio", "0.95", "paper 004 Sec. 4.2: MNN2 ratio rho (used when mnn2_matching is true)", K::kDouble, 0, 1, true,
+       [](BackboneOptions& o, double v) { o.tracker.mnn2.ratio = o.mapper.mnn2.ratio = v; }},
       {"n_features", "1000", "default: ORB-SLAM2 TUM RGB-D settings ORBextractor.nFeatures", K::kInt, 1, 100000, false,
        [](BackboneOptions& o, double v) { o.orb.n_features = static_cast<int>(v); }},
       {"n_levels", "8", "default: ORB-SLAM2 ORBextractor.nLevels", K::kInt, 1, 16, false,
@@ -138,6 +172,25 @@ const std::vector<KeyRow>& Rows() {
       {"planes", "false",
        "dynref (issue 13): ORB-SLAM2 tracks points only; true = AHC planes as landmarks (seed 000 Sec. 3.2)",
        K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.structure.planes = v != 0; }},
+      {"onnx_binary", "false",
+       "dynref (issue 17): pack the network's descriptor signs into bits (ZippyPoint's binary head; Hamming gates)",
+       K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.extractor.onnx.binary = v != 0; }},
+      {"onnx_border", "4", "not stated: SuperPoint's remove_borders default (keypoints this close to the edge are dropped)",
+       K::kInt, 0, 1000, false, [](BackboneOptions& o, double v) { o.extractor.onnx.border = static_cast<int>(v); }},
+      {"onnx_descriptor_output", "descriptors", "dynref (issue 17): name of the network's 1 x D x Hd x Wd descriptor output",
+       K::kText, 0, 0, false, nullptr, nullptr,
+       [](BackboneOptions& o, const std::string& v, const std::string&) { o.extractor.onnx.descriptor_output = v; }},
+      {"onnx_model", "", "dynref (issue 17): the .onnx file of features: onnx (relative to the config file's folder)",
+       K::kText, 0, 0, false, nullptr, nullptr,
+       [](BackboneOptions& o, const std::string& v, const std::string& file) { o.extractor.onnx.model = RelativeTo(file, v); }},
+      {"onnx_nms_radius", "3", "paper 004 Sec. 4.1: NMS radius 3", K::kInt, 0, 100, false,
+       [](BackboneOptions& o, double v) { o.extractor.onnx.nms_radius = static_cast<int>(v); }},
+      {"onnx_score_output", "scores",
+       "dynref (issue 17): name of the network's score output (1 x 65 x H/8 x W/8 logits or 1 x 1 x H x W)",
+       K::kText, 0, 0, false, nullptr, nullptr,
+       [](BackboneOptions& o, const std::string& v, const std::string&) { o.extractor.onnx.score_output = v; }},
+      {"onnx_score_threshold", "0.015", "paper 004 Sec. 4.1: keypoint score > 0.015", K::kDouble, 0, 1, false,
+       [](BackboneOptions& o, double v) { o.extractor.onnx.score_threshold = v; }},
       {"pose_chi2_mono", "5.991", "default: ORB-SLAM2 Optimizer::PoseOptimization 95 % chi2 (2 dof)", K::kDouble, 0, 1e9, true,
        [](BackboneOptions& o, double v) { o.tracker.pose.chi2_mono = v; }},
       {"pose_chi2_stereo", "7.815", "default: ORB-SLAM2 Optimizer::PoseOptimization 95 % chi2 (3 dof)", K::kDouble, 0, 1e9, true,
@@ -175,6 +228,14 @@ double ReadValue(const KeyRow& r, const Param& p) {
     throw InputError(p.file, p.line, std::string("backbone.") + r.key + ": " + what);
   };
   if (r.kind == K::kBool) return p.AsBool() ? 1.0 : 0.0;
+  if (r.kind == K::kText) {
+    if (!p.list.empty()) bad("must be a single value");
+    if (r.choices != nullptr) {
+      const std::string allowed = std::string("|") + r.choices + "|";
+      if (allowed.find("|" + p.value + "|") == std::string::npos) bad(std::string("must be one of ") + r.choices + ", got '" + p.value + "'");
+    }
+    return 0;
+  }
   const double v = p.AsDouble();
   const bool below = r.lo_open ? !(v > r.lo) : !(v >= r.lo);
   if (below || !(v <= r.hi)) bad(RangeText(r) + ", got " + p.value);
@@ -184,8 +245,16 @@ double ReadValue(const KeyRow& r, const Param& p) {
 
 }  // namespace
 
+features::ExtractorOptions BackboneOptions::Extractor() const {
+  features::ExtractorOptions e = extractor;
+  e.orb = orb;
+  e.sift.n_features = e.onnx.n_features = orb.n_features;
+  return e;
+}
+
 void BackboneOptions::Check() const {
   orb.Check();
+  Extractor().Check();
   tracker.Check();
   mapper.Check();
   mapping_clock.Check();
@@ -217,12 +286,18 @@ BackboneOptions ResolveBackbone(const std::map<std::string, Param>& given, const
       p.source = r.source;
       p.file = config_path;
     }
-    r.set(o, ReadValue(r, p));
+    const double v = ReadValue(r, p);
+    if (r.kind == K::kText) r.set_text(o, p.value, p.file);
+    else r.set(o, v);
     all[r.key] = p;
   }
   if (o.orb.min_th_fast > o.orb.ini_th_fast) {
     const Param& p = all.at("min_th_fast");
     throw InputError(p.file, p.line, "backbone.min_th_fast: need 1 <= min_th_fast <= ini_th_fast");
+  }
+  if (o.extractor.type == "onnx" && o.extractor.onnx.model.empty()) {
+    const Param& p = all.at("features");
+    throw InputError(p.file, p.line, "backbone.features: onnx needs backbone.onnx_model");
   }
   o.Check();
   if (resolved != nullptr) *resolved = std::move(all);

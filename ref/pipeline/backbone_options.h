@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "features/orb_extractor.h"
+#include "features/keypoint_extractor.h"
 #include "mapping/local_mapper.h"
 #include "mapping/mapping_clock.h"
 #include "structure/structure_options.h"
@@ -18,6 +18,9 @@ namespace dynref {
 
 struct BackboneOptions {
   features::OrbOptions orb;
+  // Extractor choice, SIFT / ONNX settings and gate overrides (issue 17); Extractor() completes
+  // it with orb and n_features.
+  features::ExtractorOptions extractor;
   tracking::TrackerOptions tracker;    // includes the pose-only optimisation options
   mapping::LocalMapperOptions mapper;  // includes the local BA options
   mapping::MappingClockOptions mapping_clock;  // when local mapping counts as busy (issue 18)
@@ -26,6 +29,7 @@ struct BackboneOptions {
   bool camera_rgb_flag = true;
   // Keypoints on depth discontinuities get no depth when > 0 (Frame::FinishFeatures; 0 = ORB-SLAM2).
   double depth_edge_rel = 0;
+  features::ExtractorOptions Extractor() const;
   void Check() const;  // InputError naming the bad field
 };
 

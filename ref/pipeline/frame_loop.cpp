@@ -28,8 +28,8 @@ FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session
       session_(session),
       trace_(trace),
       camera_(inputs.sequence.camera),
-      extractor_(inputs.config->backbone.orb),
-      pyramid_(ScalePyramid::Make(inputs.config->backbone.orb.n_levels, inputs.config->backbone.orb.scale_factor)),
+      extractor_(features::MakeExtractor(inputs.config->backbone.Extractor())),
+      pyramid_(ScalePyramid::Make(extractor_->profile().n_levels, extractor_->profile().scale_factor)),
       rgb_flag_(inputs.config->backbone.camera_rgb_flag),
       tracker_(camera_, map_, inputs.config->backbone.tracker, trace),
       mapper_(map_, camera_, inputs.config->backbone.mapper, trace),
@@ -39,7 +39,7 @@ FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session
       now_(options.threads > 1 || options.variant == "concurrent" ? WallMs : ThreadCpuMs),
       concurrent_(options.variant == "concurrent") {
   // With lines / planes, one of the threads extracts them beside ORB (Process).
-  extractor_.set_threads(inputs.config->backbone.structure.enabled() ? std::max(1, options.threads - 1)
+  extractor_->set_threads(inputs.config->backbone.structure.enabled() ? std::max(1, options.threads - 1)
                                                                      : options.threads);
   map_.AddObserver(&session_);  // landmark events reach the method's components
   if (concurrent_) trace_.SetThreadSafe(true);  // local BA logs its residuals while tracking goes on
@@ -156,7 +156,8 @@ bool FrameLoop::Process(size_t k) {
     if (release) lock.unlock();
     ParallelFor(structure_ != nullptr ? 2 : 1, options_.threads, [&](int task) {
       if (task == 0) {
-        extractor_.Extract(f.grey, &f.keys, &f.descriptors);
+        extractor_->Extract(f.grey, &f.keys, &f.descriptors);
+        f.match_profile = extractor_->profile();
         f.pyramid = pyramid_;
         f.FinishFeatures(camera_, inputs_.config->backbone.depth_edge_rel);
       } else {
@@ -212,7 +213,7 @@ bool FrameLoop::Process(size_t k) {
         const cv::KeyPoint& kp = f.keys_un[i];
         const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
         trace_.Observation(static_cast<int64_t>(i), mp, kp.pt.x, kp.pt.y, f.depth[i] > 0 ? f.depth[i] : 0.0,
-                           kp.octave, Fnv1a64(f.descriptors.ptr<uint8_t>(static_cast<int>(i)), 32));
+                           kp.octave, Fnv1a64(f.descriptors.ptr<uint8_t>(static_cast<int>(i)), f.descriptors.cols * f.descriptors.elemSize()));
       }
     }
     if (structure_ != nullptr) {

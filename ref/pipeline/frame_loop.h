@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "features/orb_extractor.h"
+#include "features/keypoint_extractor.h"
 #include "map/map.h"
 #include "mapping/local_mapper.h"
 #include "mapping/mapping_clock.h"
@@ -70,8 +70,8 @@ class FrameLoop {
   Session& session_;
   trace::TraceWriter& trace_;
   const Camera& camera_;
-  features::OrbExtractor extractor_;
-  ScalePyramid pyramid_;
+  std::unique_ptr<features::KeypointExtractor> extractor_;  // backbone features (orb | sift | onnx)
+  ScalePyramid pyramid_;  // of the extractor's profile
   bool rgb_flag_;
   Map map_;
   tracking::Tracker tracker_;

@@ -3,17 +3,15 @@
 
 #include <cmath>
 
-#include "features/orb_extractor.h"
+#include "features/descriptor.h"
+#include "features/mnn2.h"
+#include "trace/trace_writer.h"
 
 namespace dynref::tracking {
 namespace {
 
-using features::DescriptorDistance;
 using features::kHistoLength;
-using features::kThHigh;
-using features::kThLow;
-
-const uint8_t* Desc(const Frame& f, int i) { return f.descriptors.ptr<uint8_t>(i); }
+using features::RowDistance;
 
 // Keeps only matches whose rotation bin is one of the three fullest (ORBmatcher rotHist check).
 int ApplyRotationConsistency(const std::vector<std::vector<int>>& hist, Frame& cur) {
@@ -64,6 +62,7 @@ int SearchByProjectionLastFrame(Frame& cur, const Frame& last, const Map& map, f
   const double tlc_z = T_lc.translation().z();
   const double b = cam.baseline_m();
   const bool forward = tlc_z > b;
+  const bool oriented = cur.match_profile.oriented;
   const bool backward = -tlc_z > b;
   int n = 0;
   for (size_t i = 0; i < last.N(); ++i) {
@@ -84,27 +83,27 @@ int SearchByProjectionLastFrame(Frame& cur, const Frame& last, const Map& map, f
     else if (backward) idx = cur.FeaturesInArea(u, v, radius, 0, last_octave);
     else idx = cur.FeaturesInArea(u, v, radius, last_octave - 1, last_octave + 1);
     if (idx.empty()) continue;
-    const uint8_t* d_mp = p->descriptor.ptr<uint8_t>(0);
-    int best_dist = 256, best_idx = -1;
+    float best_dist = cur.match_profile.worst;
+    int best_idx = -1;
     for (int i2 : idx) {
       if (cur.map_point_ids[i2] >= 0) continue;
       if (cur.u_right[i2] > 0) {
         const double ur = uv.x() - cam.bf * invz;
         if (std::fabs(ur - cur.u_right[i2]) > radius) continue;
       }
-      const int dist = DescriptorDistance(d_mp, Desc(cur, i2));
+      const float dist = RowDistance(p->descriptor, 0, cur.descriptors, i2);
       if (dist < best_dist) {
         best_dist = dist;
         best_idx = i2;
       }
     }
-    if (best_dist <= kThHigh) {
+    if (best_dist <= cur.match_profile.th_high) {
       cur.map_point_ids[best_idx] = id;
       ++n;
-      hist[features::RotationBin(last.keys_un[i].angle, cur.keys_un[best_idx].angle)].push_back(best_idx);
+      if (oriented) hist[features::RotationBin(last.keys_un[i].angle, cur.keys_un[best_idx].angle)].push_back(best_idx);
     }
   }
-  n -= ApplyRotationConsistency(hist, cur);
+  if (oriented) n -= ApplyRotationConsistency(hist, cur);
   return n;
 }
 
@@ -120,15 +119,16 @@ int SearchByProjectionLocal(Frame& cur, const std::vector<ProjectedPoint>& point
     const float radius = r * cur.pyramid.scale[level];
     const std::vector<int> idx = cur.FeaturesInArea(pp.u, pp.v, radius, level - 1, level);
     if (idx.empty()) continue;
-    const uint8_t* d_mp = p->descriptor.ptr<uint8_t>(0);
-    int best_dist = 256, best_level = -1, best_dist2 = 256, best_level2 = -1, best_idx = -1;
+    const float worst = cur.match_profile.worst;
+    float best_dist = worst, best_dist2 = worst;
+    int best_level = -1, best_level2 = -1, best_idx = -1;
     for (int i2 : idx) {
       if (cur.map_point_ids[i2] >= 0) {
         const MapPoint* q = map.good_mp(cur.map_point_ids[i2]);
         if (q != nullptr && q->n_obs > 0) continue;
       }
       if (cur.u_right[i2] > 0 && std::fabs(pp.u_right - cur.u_right[i2]) > radius) continue;
-      const int dist = DescriptorDistance(d_mp, Desc(cur, i2));
+      const float dist = RowDistance(p->descriptor, 0, cur.descriptors, i2);
       if (dist < best_dist) {
         best_dist2 = best_dist;
         best_level2 = best_level;
@@ -140,7 +140,7 @@ int SearchByProjectionLocal(Frame& cur, const std::vector<ProjectedPoint>& point
         best_dist2 = dist;
       }
     }
-    if (best_dist <= kThHigh) {
+    if (best_dist <= cur.match_profile.th_high) {
       if (best_level == best_level2 && best_dist > nn_ratio * best_dist2) continue;
       cur.map_point_ids[best_idx] = pp.mp_id;
       ++n;
@@ -149,19 +149,61 @@ int SearchByProjectionLocal(Frame& cur, const std::vector<ProjectedPoint>& point
   return n;
 }
 
-int SearchByBruteForce(const KeyFrame& kf, Frame& cur, const Map& map, float nn_ratio,
-                       bool check_orientation) {
+namespace {
+
+// MNN2 over the keyframe's map-point features (rows) and the frame's free features (columns);
+// every accepted match is traced (stage match.mnn2) at trace level full.
+int SearchByMnn2(const KeyFrame& kf, Frame& cur, const Map& map, double ratio, bool check_orientation) {
+  const Frame& kff = kf.frame;
+  std::vector<int> rows, cols;
+  for (size_t i = 0; i < kf.map_point_ids.size(); ++i)
+    if (kf.map_point_ids[i] >= 0 && map.good_mp(kf.map_point_ids[i]) != nullptr) rows.push_back(static_cast<int>(i));
+  for (size_t j = 0; j < cur.N(); ++j)
+    if (cur.map_point_ids[j] < 0 && !cur.IsExcluded(static_cast<int>(j))) cols.push_back(static_cast<int>(j));
+  cv::Mat d(static_cast<int>(rows.size()), static_cast<int>(cols.size()), CV_64F);
+  for (size_t r = 0; r < rows.size(); ++r)
+    for (size_t c = 0; c < cols.size(); ++c)
+      d.at<double>(static_cast<int>(r), static_cast<int>(c)) = RowDistance(kff.descriptors, rows[r], cur.descriptors, cols[c]);
+  features::Mnn2Options o;
+  o.ratio = ratio;
+  const double tau = cur.match_profile.th_high;
+  std::vector<std::vector<int>> hist(kHistoLength);
+  const bool orient = check_orientation && cur.match_profile.oriented;
+  int n = 0;
+  for (const features::DescriptorMatch& m : features::SelectMnn2(d, tau, o)) {
+    const int i = rows[static_cast<size_t>(m.i)], j = cols[static_cast<size_t>(m.j)];
+    cur.map_point_ids[j] = kf.map_point_ids[i];
+    ++n;
+    if (orient) hist[features::RotationBin(kff.keys_un[i].angle, cur.keys_un[j].angle)].push_back(j);
+    if (cur.trace != nullptr && cur.trace->full_enabled())
+      cur.trace->ProbabilityUpdate("match.mnn2", trace::EntityKind::kFeature, cur.FeatureId(j),
+                                   {{"kf", double(kf.id)}, {"kf_feature", double(i)}, {"map_point", double(kf.map_point_ids[i])},
+                                    {"distance", m.distance}, {"second", m.second}, {"ratio", m.second > 0 ? m.distance / m.second : 0.0},
+                                    {"tau", tau}},
+                                   0.0, 0.0);
+  }
+  if (orient) n -= ApplyRotationConsistency(hist, cur);
+  return n;
+}
+
+}  // namespace
+
+int SearchByBruteForce(const KeyFrame& kf, Frame& cur, const Map& map, float nn_ratio, bool check_orientation,
+                       const features::BackboneMnn2& mnn2) {
+  if (mnn2.enabled) return SearchByMnn2(kf, cur, map, mnn2.ratio, check_orientation);
   std::vector<std::vector<int>> hist(kHistoLength);
   const Frame& kff = kf.frame;
+  const bool orient = check_orientation && cur.match_profile.oriented;
+  const float worst = cur.match_profile.worst;
   int n = 0;
   for (size_t i = 0; i < kf.map_point_ids.size(); ++i) {
     const int64_t id = kf.map_point_ids[i];
     if (id < 0 || map.good_mp(id) == nullptr) continue;
-    const uint8_t* d_kf = Desc(kff, static_cast<int>(i));
-    int best1 = 256, best2 = 256, best_idx = -1;
+    float best1 = worst, best2 = worst;
+    int best_idx = -1;
     for (size_t j = 0; j < cur.N(); ++j) {
       if (cur.map_point_ids[j] >= 0 || cur.IsExcluded(static_cast<int>(j))) continue;
-      const int dist = DescriptorDistance(d_kf, Desc(cur, static_cast<int>(j)));
+      const float dist = RowDistance(kff.descriptors, static_cast<int>(i), cur.descriptors, static_cast<int>(j));
       if (dist < best1) {
         best2 = best1;
         best1 = dist;
@@ -170,20 +212,20 @@ int SearchByBruteForce(const KeyFrame& kf, Frame& cur, const Map& map, float nn_
         best2 = dist;
       }
     }
-    if (best1 <= kThLow && static_cast<float>(best1) < nn_ratio * static_cast<float>(best2)) {
+    if (best1 <= cur.match_profile.th_low && best1 < nn_ratio * best2) {
       cur.map_point_ids[best_idx] = id;
       ++n;
-      if (check_orientation)
-        hist[features::RotationBin(kff.keys_un[i].angle, cur.keys_un[best_idx].angle)].push_back(best_idx);
+      if (orient) hist[features::RotationBin(kff.keys_un[i].angle, cur.keys_un[best_idx].angle)].push_back(best_idx);
     }
   }
-  if (check_orientation) n -= ApplyRotationConsistency(hist, cur);
+  if (orient) n -= ApplyRotationConsistency(hist, cur);
   return n;
 }
 
 int SearchByProjectionKeyFrame(Frame& cur, const KeyFrame& kf, const Map& map,
-                               const std::set<int64_t>& already_found, float th, int orb_dist) {
+                               const std::set<int64_t>& already_found, float th, float max_dist) {
   const Camera& cam = *cur.camera;
+  const bool oriented = cur.match_profile.oriented;
   std::vector<std::vector<int>> hist(kHistoLength);
   const Eigen::Vector3d O_w = cur.CameraCentre();
   int n = 0;
@@ -201,23 +243,23 @@ int SearchByProjectionKeyFrame(Frame& cur, const KeyFrame& kf, const Map& map,
     const float radius = th * cur.pyramid.scale[level];
     const std::vector<int> idx = cur.FeaturesInArea(static_cast<float>(uv.x()), static_cast<float>(uv.y()),
                                                     radius, level - 1, level + 1);
-    const uint8_t* d_mp = p->descriptor.ptr<uint8_t>(0);
-    int best_dist = 256, best_idx = -1;
+    float best_dist = cur.match_profile.worst;
+    int best_idx = -1;
     for (int i2 : idx) {
       if (cur.map_point_ids[i2] >= 0) continue;
-      const int dist = DescriptorDistance(d_mp, Desc(cur, i2));
+      const float dist = RowDistance(p->descriptor, 0, cur.descriptors, i2);
       if (dist < best_dist) {
         best_dist = dist;
         best_idx = i2;
       }
     }
-    if (best_idx >= 0 && best_dist <= orb_dist) {
+    if (best_idx >= 0 && best_dist <= max_dist) {
       cur.map_point_ids[best_idx] = id;
       ++n;
-      hist[features::RotationBin(kf.frame.keys_un[i].angle, cur.keys_un[best_idx].angle)].push_back(best_idx);
+      if (oriented) hist[features::RotationBin(kf.frame.keys_un[i].angle, cur.keys_un[best_idx].angle)].push_back(best_idx);
     }
   }
-  n -= ApplyRotationConsistency(hist, cur);
+  if (oriented) n -= ApplyRotationConsistency(hist, cur);
   return n;
 }
 

@@ -8,6 +8,7 @@
 #include <set>
 #include <vector>
 
+#include "features/mnn2.h"
 #include "map/frame.h"
 #include "map/map.h"
 
@@ -40,12 +41,17 @@ int SearchByProjectionLocal(Frame& cur, const std::vector<ProjectedPoint>& point
 // Replacement for ORBmatcher::SearchByBoW(KeyFrame*, Frame&): brute force, best distance <=
 // TH_LOW, best < ratio * second best, first-come one-to-one, rotation histogram. Writes the
 // matched map point ids into cur.map_point_ids; returns the number of matches.
+// With mnn2.enabled: seed 004's MNN2 instead (features/mnn2.h BackboneMnn2), each match traced as
+// PROB stage match.mnn2 on the frame feature (inputs kf, kf_feature, map_point, distance, second,
+// ratio, tau; p = 0) at trace level full. Distances and gates in the frame's match_profile units;
+// the rotation check only for oriented extractors.
 int SearchByBruteForce(const KeyFrame& kf, Frame& cur, const Map& map, float nn_ratio,
-                       bool check_orientation);
+                       bool check_orientation, const features::BackboneMnn2& mnn2 = {});
 
 // ORBmatcher::SearchByProjection(Frame&, KeyFrame*, set<MapPoint*> sAlreadyFound, th, ORBdist)
 // used by relocalisation.
+// max_dist in the frame's match_profile units (ORB-SLAM2: 100, then 64 bits).
 int SearchByProjectionKeyFrame(Frame& cur, const KeyFrame& kf, const Map& map,
-                               const std::set<int64_t>& already_found, float th, int orb_dist);
+                               const std::set<int64_t>& already_found, float th, float max_dist);
 
 }  // namespace dynref::tracking

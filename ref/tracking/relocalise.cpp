@@ -128,7 +128,7 @@ bool Tracker::Relocalise(Frame& f) {
   for (int64_t kf_id : candidates) {
     const KeyFrame& kf = *map_.kf(kf_id);
     std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
-    const int n = SearchByBruteForce(kf, f, map_, 0.75f, true);
+    const int n = SearchByBruteForce(kf, f, map_, 0.75f, true, options_.mnn2);
     if (n < 15) continue;
     std::vector<int> idx;
     std::vector<Eigen::Vector3d> X;
@@ -160,12 +160,12 @@ bool Tracker::Relocalise(Frame& f) {
       return s;
     };
     if (good < 50) {
-      const int add = SearchByProjectionKeyFrame(f, kf, map_, found_set(), 10, 100);
+      const int add = SearchByProjectionKeyFrame(f, kf, map_, found_set(), 10, f.match_profile.th_high);
       if (add + good >= 50) {
         good = OptimizePose(f);
         if (good > 30 && good < 50) {
           drop_outliers();
-          const int add2 = SearchByProjectionKeyFrame(f, kf, map_, found_set(), 3, 64);
+          const int add2 = SearchByProjectionKeyFrame(f, kf, map_, found_set(), 3, f.match_profile.th_reloc);
           if (good + add2 >= 50) good = OptimizePose(f);
         }
         drop_outliers();

@@ -163,7 +163,7 @@ bool Tracker::TrackReferenceKeyFrame(Frame& f) {
   const KeyFrame* ref = map_.kf(reference_kf_);
   if (ref == nullptr) return false;
   std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
-  int n = SearchByBruteForce(*ref, f, map_, 0.7f, true);
+  int n = SearchByBruteForce(*ref, f, map_, 0.7f, true, options_.mnn2);
   trace_.FrameCount("track.reference_kf", "matches", n);
   if (structure_ != nullptr && n < 15) {
     f.T_cw = last_.T_cw;  // association needs a pose; the same start as below

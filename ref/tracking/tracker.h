@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/rng.h"
+#include "features/mnn2.h"
 #include "map/frame.h"
 #include "map/map.h"
 #include "structure/structure_tracker.h"
@@ -26,6 +27,7 @@ struct TrackerOptions {
   int ransac_iterations = 300; // ORB-SLAM2 PnPsolver SetRansacParameters(0.99, 10, 300, 4, 0.5, 5.991)
   uint64_t seed = 1;
   optim::PoseOnlyOptions pose;  // ORB-SLAM2 Optimizer::PoseOptimization (4 x 10 iterations, chi2 gates)
+  features::BackboneMnn2 mnn2;  // seed 004 MNN2 in keyframe-to-frame matching (off: ORB-SLAM2)
   void Check() const;
 };
 

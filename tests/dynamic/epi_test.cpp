@@ -191,4 +191,18 @@ TEST_CASE("epi reproduce: epi-table3 end to end on 30 frames (ATE, ablation, mas
   REQUIRE(at != std::string::npos);
   CHECK(std::stoi(md.substr(at + std::string("| walking_static | normal light | epi | ").size())) > 20);
   CHECK(md.find("| OURS | RTX 4060 Ti | 41.9–58.4 |") != std::string::npos);  // Table 7 as printed
+  // Module B (issue 17): the B, B + C and ALL columns ran, ALL voted on masks and was timed.
+  CHECK(md.find("B (epi_B) | C (epi_C) | A + C (epi) | B + C (epi_BC) | ALL (epi_ALL) |") != std::string::npos);
+  const size_t all = md.find("| walking_static | normal light | epi_ALL | ");
+  REQUIRE(all != std::string::npos);
+  CHECK(std::stoi(md.substr(all + std::string("| walking_static | normal light | epi_ALL | ").size())) > 20);
+  CHECK(md.find("| epi_ALL | normal light | ") != std::string::npos);
+  // Every dynref column of the Table 6 row has a value ("-" = no ATE).
+  const size_t t6 = md.find("| walking_static | normal light |", md.find("## Module ablation"));
+  REQUIRE(t6 != std::string::npos);
+  std::string row = md.substr(t6, md.find('\n', t6) - t6);
+  std::vector<std::string> cells;
+  for (size_t b = 1, e; (e = row.find('|', b)) != std::string::npos; b = e + 1) cells.push_back(row.substr(b, e - b));
+  REQUIRE(cells.size() >= 9);
+  for (size_t c = 2; c < 9; ++c) CHECK(cells[c] != " - ");
 }

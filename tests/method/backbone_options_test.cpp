@@ -74,11 +74,29 @@ TEST_CASE("backbone options: every key's default equals the struct's default") {
   CHECK(o.structure.plane_merge_dist_m == d.structure.plane_merge_dist_m);
   CHECK(o.structure.line_count_weight == d.structure.line_count_weight);
   CHECK(o.structure.plane_count_weight == d.structure.plane_count_weight);
+  // Feature plug-in (issue 17): ORB with its own gates, ORB-SLAM2's brute-force rule.
+  const features::ExtractorOptions xo = o.Extractor(), xd = d.Extractor();
+  CHECK(xo.type == xd.type);
+  CHECK(xo.type == "orb");
+  CHECK(xo.th_low == xd.th_low);
+  CHECK(xo.th_high == xd.th_high);
+  CHECK(xo.th_reloc == xd.th_reloc);
+  CHECK(xo.onnx.model == xd.onnx.model);
+  CHECK(xo.onnx.score_output == xd.onnx.score_output);
+  CHECK(xo.onnx.descriptor_output == xd.onnx.descriptor_output);
+  CHECK(xo.onnx.score_threshold == xd.onnx.score_threshold);
+  CHECK(xo.onnx.nms_radius == xd.onnx.nms_radius);
+  CHECK(xo.onnx.border == xd.onnx.border);
+  CHECK(xo.onnx.binary == xd.onnx.binary);
+  CHECK(o.tracker.mnn2.enabled == d.tracker.mnn2.enabled);
+  CHECK(o.mapper.mnn2.enabled == d.mapper.mnn2.enabled);
+  CHECK(o.tracker.mnn2.ratio == d.tracker.mnn2.ratio);
   for (const auto& [key, p] : resolved) {
     INFO(key);
     CHECK((p.source.rfind("default:", 0) == 0 || p.source.rfind("not stated:", 0) == 0 ||
            p.source.rfind("dynref (issue 21):", 0) == 0 || p.source.rfind("dynref (issue 18):", 0) == 0 ||
-           p.source.rfind("dynref (issue 13):", 0) == 0 || p.source.rfind("paper 000 ", 0) == 0 ||
+           p.source.rfind("dynref (issue 13):", 0) == 0 || p.source.rfind("dynref (issue 17):", 0) == 0 ||
+           p.source.rfind("paper 000 ", 0) == 0 || p.source.rfind("paper 004 ", 0) == 0 ||
            p.source.rfind("spec 000 ", 0) == 0));
   }
 }
@@ -102,4 +120,30 @@ TEST_CASE("backbone options: given values reach their fields, bad ones name file
                     Contains("backbone.scale_factor: must be > 1"));
   CHECK_THROWS_WITH(ResolveBackbone({{"nope", P("1")}}, "t.yaml", nullptr), Contains("unknown backbone key 'nope'"));
   CHECK_THROWS_AS(ResolveBackbone({{"local_ba", P("1")}}, "t.yaml", nullptr), InputError);
+}
+
+TEST_CASE("backbone options: the feature plug-in keys (issue 17) reach the extractor options, bad ones name file:line") {
+  Param model = P("models/sp.onnx");
+  model.file = "cfg/t.yaml";
+  const BackboneOptions o = ResolveBackbone(
+      {{"features", P("onnx")}, {"onnx_model", model}, {"onnx_binary", P("true")},
+       {"descriptor_th_low", P("0.3")}, {"mnn2_matching", P("true")}, {"mnn2_ratio", P("0.9")}, {"n_features", P("800")}},
+      "cfg/t.yaml", nullptr);
+  const features::ExtractorOptions x = o.Extractor();
+  CHECK(x.type == "onnx");
+  // A relative model path is relative to the config file's folder.
+  CHECK(x.onnx.model == "cfg/models/sp.onnx");
+  CHECK(x.onnx.binary);
+  CHECK(x.onnx.n_features == 800);
+  CHECK(x.sift.n_features == 800);
+  CHECK(x.th_low == 0.3);
+  CHECK(o.tracker.mnn2.enabled);
+  CHECK(o.mapper.mnn2.enabled);
+  CHECK(o.mapper.mnn2.ratio == 0.9);
+  using Catch::Matchers::Contains;
+  CHECK_THROWS_WITH(ResolveBackbone({{"features", P("surf")}}, "t.yaml", nullptr),
+                    Contains("t.yaml:5: backbone.features: must be one of orb|sift|onnx, got 'surf'"));
+  CHECK_THROWS_WITH(ResolveBackbone({{"features", P("onnx")}}, "t.yaml", nullptr),
+                    Contains("t.yaml:5: backbone.features: onnx needs backbone.onnx_model"));
+  CHECK_THROWS_WITH(ResolveBackbone({{"mnn2_ratio", P("0")}}, "t.yaml", nullptr), Contains("backbone.mnn2_ratio: must be > 0"));
 }

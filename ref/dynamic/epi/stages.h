@@ -8,7 +8,8 @@
 //   epi.nerf     (map module)        Sec. 3.3.2: NeRF-ready export at the end of the run
 //                (nerf_export.h): keyframe images, Module C's dynamic masks, transforms.json,
 //                pseudo-point cloud of triangulated static matches, L_geo.
-// Module B (learned float descriptors + MNN2) is not built: the backbone matches ORB only.
+// Module B is the backbone's feature plug-in (ref/features/keypoint_extractor.h: SIFT or a
+// SuperPoint-style ONNX model, MNN2 matching; configs/epi_B.yaml, epi_BC.yaml, epi_ALL.yaml).
 #pragma once
 #include <map>
 #include <set>

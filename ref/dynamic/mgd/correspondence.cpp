@@ -1,15 +1,20 @@
 #include "dynamic/mgd/correspondence.h"
 
+#include <limits>
 #include <map>
 
 #include "core/parallel.h"
-#include "features/orb_extractor.h"
+#include "features/descriptor.h"
 
 namespace dynref::mgd {
 
 std::vector<Correspondence> MatchPrevious(const Frame& cur, const Frame& prev, double delta, double radius_px,
                                           int threads) {
-  const int max_bits = static_cast<int>((1.0 - delta) * 256.0);
+  // Similarity delta on the normalised distance: Hamming / bits (ORB: 102 of 256 bits), or squared
+  // L2 / 4 for unit float rows (the same number for +-1 coded bits, features/descriptor.h).
+  const float max_dist = cur.descriptors.type() == CV_8U
+                             ? static_cast<float>(static_cast<int>((1.0 - delta) * 8.0 * cur.descriptors.cols))
+                             : static_cast<float>((1.0 - delta) * 4.0);
   std::map<int64_t, int> prev_of_point;  // map point -> first previous feature observing it
   for (size_t j = 0; j < prev.N(); ++j)
     if (prev.map_point_ids[j] >= 0 && !prev.outlier[j]) prev_of_point.emplace(prev.map_point_ids[j], static_cast<int>(j));
@@ -18,23 +23,23 @@ std::vector<Correspondence> MatchPrevious(const Frame& cur, const Frame& prev, d
   ParallelForEach(cur.N(), threads, [&](size_t i) {
     const int fi = static_cast<int>(i);
     if (cur.IsExcluded(fi)) return;
-    const uint8_t* d_i = cur.descriptors.ptr<uint8_t>(fi);
     Correspondence& c = out[i];
     const int64_t mp = cur.outlier[i] ? -1 : cur.map_point_ids[i];
     auto it = mp >= 0 ? prev_of_point.find(mp) : prev_of_point.end();
     if (it != prev_of_point.end()) {
-      const int h = features::DescriptorDistance(d_i, prev.descriptors.ptr<uint8_t>(it->second));
-      if (h <= max_bits) c = {it->second, CorrespondenceSource::kMapPoint, h};
+      const float h = features::RowDistance(cur.descriptors, fi, prev.descriptors, it->second);
+      if (h <= max_dist) c = {it->second, CorrespondenceSource::kMapPoint, h};
       return;
     }
     const cv::Point2f& p = cur.keys_un[i].pt;
-    int best = max_bits + 1, best_j = -1;
+    float best = std::numeric_limits<float>::infinity();
+    int best_j = -1;
     for (size_t j = 0; j < prev.N(); ++j) {
       const cv::Point2f& q = prev.keys_un[j].pt;
       const double du = p.x - q.x, dv = p.y - q.y;
       if (du * du + dv * dv > r2) continue;
-      const int h = features::DescriptorDistance(d_i, prev.descriptors.ptr<uint8_t>(static_cast<int>(j)));
-      if (h < best) best = h, best_j = static_cast<int>(j);
+      const float h = features::RowDistance(cur.descriptors, fi, prev.descriptors, static_cast<int>(j));
+      if (h <= max_dist && h < best) best = h, best_j = static_cast<int>(j);
     }
     if (best_j >= 0) c = {best_j, CorrespondenceSource::kDescriptorWindow, best};
   });

@@ -2,7 +2,8 @@
 // Sec. 3.4, spec step 7 and E3): a current feature corresponds to the previous frame's feature
 // that observed the same map point, else to the previous feature within match_radius_px whose
 // descriptor is closest; either way only when the descriptors are similar: Hamming <=
-// (1 - delta) 256 bits (delta = 0.6 read as a similarity: 102 bits, ORB-SLAM2's TH_HIGH = 100).
+// (1 - delta) 256 bits (delta = 0.6 read as a similarity: 102 bits, ORB-SLAM2's TH_HIGH = 100);
+// float descriptors (issue 17): squared L2 of unit rows <= (1 - delta) 4.
 #pragma once
 #include <vector>
 
@@ -15,7 +16,7 @@ enum class CorrespondenceSource { kNone = 0, kMapPoint = 1, kDescriptorWindow = 
 struct Correspondence {
   int prev_index = -1;
   CorrespondenceSource source = CorrespondenceSource::kNone;
-  int hamming = -1;
+  float hamming = -1;  // descriptor distance (Hamming bits for ORB; traced as input "hamming")
 };
 
 // One entry per current feature (excluded ones: none). Deterministic: ties keep the lowest index.
