@@ -23,8 +23,9 @@ void DescriptorProfile::Check() const {
   if (type != CV_8U && type != CV_32F) throw InputError("descriptor profile", "type must be CV_8U or CV_32F");
   if (cols < 1) throw InputError("descriptor profile", "cols must be >= 1");
   if (!(th_low > 0 && th_low <= th_high && th_high < worst && th_reloc > 0 && th_reloc < worst))
-    throw InputError("descriptor profile (" + extractor + ")",
-                     "need 0 < th_low <= th_high < worst and 0 < th_reloc < worst");
+    throw InputError("backbone.descriptor_th_* (" + extractor + ")",
+                     "need 0 < th_low <= th_high < " + std::to_string(worst) + " and 0 < th_reloc < " + std::to_string(worst) +
+                         ", got " + std::to_string(th_low) + " / " + std::to_string(th_high) + " / " + std::to_string(th_reloc));
   if (n_levels < 1 || n_levels > 32) throw InputError("descriptor profile", "n_levels must be in 1..32");
   if (!(scale_factor > 1)) throw InputError("descriptor profile", "scale_factor must be > 1");
 }

@@ -65,6 +65,7 @@ std::unique_ptr<KeypointExtractor> MakeExtractor(const ExtractorOptions& o) {
   else if (o.type == "sift") e = std::make_unique<SiftExtractor>(o.sift);
   else e = std::make_unique<OnnxExtractor>(o.onnx);
   if (o.th_low > 0 || o.th_high > 0 || o.th_reloc > 0) e = std::make_unique<GateOverride>(std::move(e), o);
+  e->profile().Check();  // e.g. an override with th_low > th_high
   return e;
 }
 

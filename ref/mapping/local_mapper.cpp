@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "features/descriptor.h"
 #include "trace/trace_writer.h"
+#include "tracking/matcher.h"
 #include "geometry/triangulation.h"
 #include "optim/optim.h"
 
@@ -93,8 +94,7 @@ std::vector<std::pair<int, int>> SearchForTriangulation(const KeyFrame& k1, cons
       pairs.emplace_back(i, j);
       if (trace.full_enabled())
         trace.ProbabilityUpdate("match.mnn2.triangulation", trace::EntityKind::kFeature, k2.frame.FeatureId(j),
-                                {{"kf", double(k1.id)}, {"kf_feature", double(i)}, {"distance", m.distance},
-                                 {"second", m.second}, {"ratio", m.second > 0 ? m.distance / m.second : 0.0}, {"tau", tau}},
+                                tracking::Mnn2TraceInputs(m, tau, {{"kf", double(k1.id)}, {"kf_feature", double(i)}}),
                                 0.0, 0.0);
     }
     return pairs;

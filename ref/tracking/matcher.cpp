@@ -62,8 +62,8 @@ int SearchByProjectionLastFrame(Frame& cur, const Frame& last, const Map& map, f
   const double tlc_z = T_lc.translation().z();
   const double b = cam.baseline_m();
   const bool forward = tlc_z > b;
-  const bool oriented = cur.match_profile.oriented;
   const bool backward = -tlc_z > b;
+  const bool oriented = cur.match_profile.oriented;
   int n = 0;
   for (size_t i = 0; i < last.N(); ++i) {
     const int64_t id = last.map_point_ids[i];
@@ -149,10 +149,19 @@ int SearchByProjectionLocal(Frame& cur, const std::vector<ProjectedPoint>& point
   return n;
 }
 
+std::vector<trace::NamedValue> Mnn2TraceInputs(const features::DescriptorMatch& m, double tau,
+                                               std::vector<trace::NamedValue> ids) {
+  ids.push_back({"distance", m.distance});
+  ids.push_back({"second", m.second});
+  ids.push_back({"ratio", m.second > 0 ? m.distance / m.second : 0.0});
+  ids.push_back({"tau", tau});
+  return ids;
+}
+
 namespace {
 
 // MNN2 over the keyframe's map-point features (rows) and the frame's free features (columns);
-// every accepted match is traced (stage match.mnn2) at trace level full.
+// every match that survives the rotation check is traced (stage match.mnn2) at trace level full.
 int SearchByMnn2(const KeyFrame& kf, Frame& cur, const Map& map, double ratio, bool check_orientation) {
   const Frame& kff = kf.frame;
   std::vector<int> rows, cols;
@@ -170,19 +179,23 @@ int SearchByMnn2(const KeyFrame& kf, Frame& cur, const Map& map, double ratio, b
   std::vector<std::vector<int>> hist(kHistoLength);
   const bool orient = check_orientation && cur.match_profile.oriented;
   int n = 0;
-  for (const features::DescriptorMatch& m : features::SelectMnn2(d, tau, o)) {
+  const std::vector<features::DescriptorMatch> matches = features::SelectMnn2(d, tau, o);
+  for (const features::DescriptorMatch& m : matches) {
     const int i = rows[static_cast<size_t>(m.i)], j = cols[static_cast<size_t>(m.j)];
     cur.map_point_ids[j] = kf.map_point_ids[i];
     ++n;
     if (orient) hist[features::RotationBin(kff.keys_un[i].angle, cur.keys_un[j].angle)].push_back(j);
-    if (cur.trace != nullptr && cur.trace->full_enabled())
-      cur.trace->ProbabilityUpdate("match.mnn2", trace::EntityKind::kFeature, cur.FeatureId(j),
-                                   {{"kf", double(kf.id)}, {"kf_feature", double(i)}, {"map_point", double(kf.map_point_ids[i])},
-                                    {"distance", m.distance}, {"second", m.second}, {"ratio", m.second > 0 ? m.distance / m.second : 0.0},
-                                    {"tau", tau}},
-                                   0.0, 0.0);
   }
   if (orient) n -= ApplyRotationConsistency(hist, cur);
+  if (cur.trace == nullptr || !cur.trace->full_enabled()) return n;
+  for (const features::DescriptorMatch& m : matches) {
+    const int i = rows[static_cast<size_t>(m.i)], j = cols[static_cast<size_t>(m.j)];
+    if (cur.map_point_ids[j] != kf.map_point_ids[i]) continue;  // dropped by the rotation check
+    cur.trace->ProbabilityUpdate("match.mnn2", trace::EntityKind::kFeature, cur.FeatureId(j),
+                                 Mnn2TraceInputs(m, tau, {{"kf", double(kf.id)}, {"kf_feature", double(i)},
+                                                                    {"map_point", double(kf.map_point_ids[i])}}),
+                                 0.0, 0.0);
+  }
   return n;
 }
 

@@ -11,6 +11,7 @@
 #include "features/mnn2.h"
 #include "map/frame.h"
 #include "map/map.h"
+#include "trace/trace_writer.h"
 
 namespace dynref::tracking {
 
@@ -47,6 +48,11 @@ int SearchByProjectionLocal(Frame& cur, const std::vector<ProjectedPoint>& point
 // the rotation check only for oriented extractors.
 int SearchByBruteForce(const KeyFrame& kf, Frame& cur, const Map& map, float nn_ratio,
                        bool check_orientation, const features::BackboneMnn2& mnn2 = {});
+
+// Trace inputs of one MNN2 match: `ids` first, then distance, second, ratio = distance / second
+// (0 when second is 0) and tau (the match.mnn2 records, ref/trace/README.md).
+std::vector<trace::NamedValue> Mnn2TraceInputs(const features::DescriptorMatch& m, double tau,
+                                               std::vector<trace::NamedValue> ids);
 
 // ORBmatcher::SearchByProjection(Frame&, KeyFrame*, set<MapPoint*> sAlreadyFound, th, ORBdist)
 // used by relocalisation.

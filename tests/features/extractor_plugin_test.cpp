@@ -93,9 +93,13 @@ TEST_CASE("plugin: SIFT gives unit float rows, levels of a 2^(1/3) pyramid and t
   CHECK(SiftExtractor::Level((1 << 8) | 255, 3, 24) == 0);
   CHECK(SiftExtractor::Level((1 << 8) | 2, 3, 24) == 7);
   CHECK(SiftExtractor::Level((3 << 8) | 9, 3, 24) == 23);
-  // A gate override reaches the profile.
+  // A gate override reaches the profile; one above TH_HIGH or the largest distance is an error.
   o.th_low = 0.1;
   CHECK(MakeExtractor(o)->profile().th_low == Approx(0.1f));
+  o.th_low = 0.7;
+  CHECK_THROWS_AS(MakeExtractor(o), InputError);
+  o.th_low = 0, o.th_high = 5;
+  CHECK_THROWS_AS(MakeExtractor(o), InputError);
 }
 
 TEST_CASE("plugin: SuperPoint score decoding, NMS order and bilinear descriptor sampling") {
