@@ -1,85 +1,15 @@
-// Hand-written ONNX protobuf (onnx.proto field numbers) of the tiny SuperPoint; see the header.
+// The tiny SuperPoint (tests/onnx_protobuf.h encodes it); see the header.
 #include "tiny_onnx_model.h"
 
-#include <cmath>
-#include <cstring>
-#include <fstream>
 #include <stdexcept>
 #include <vector>
 
 #include "core/rng.h"
+#include "onnx_protobuf.h"
 
 namespace dynref::test {
-namespace {
 
-// Protobuf wire format: varints, keys (field << 3 | wire type) and length-delimited fields.
-struct Pb {
-  std::string b;
-  void Varint(uint64_t v) {
-    while (v >= 0x80) b.push_back(static_cast<char>((v & 0x7F) | 0x80)), v >>= 7;
-    b.push_back(static_cast<char>(v));
-  }
-  void Key(int field, int wire) { Varint(static_cast<uint64_t>(field) << 3 | static_cast<uint64_t>(wire)); }
-  void Int(int field, int64_t v) { Key(field, 0), Varint(static_cast<uint64_t>(v)); }
-  void Bytes(int field, const std::string& s) { Key(field, 2), Varint(s.size()), b += s; }
-  void Msg(int field, const Pb& m) { Bytes(field, m.b); }
-};
-
-// TensorProto: dims 1, data_type 2 (FLOAT = 1), name 8, raw_data 9.
-Pb Tensor(const std::string& name, const std::vector<int64_t>& dims, const std::vector<float>& v) {
-  Pb t;
-  for (int64_t d : dims) t.Int(1, d);
-  t.Int(2, 1);
-  t.Bytes(8, name);
-  std::string raw(v.size() * 4, '\0');
-  std::memcpy(raw.data(), v.data(), raw.size());  // little-endian floats
-  t.Bytes(9, raw);
-  return t;
-}
-
-// ValueInfoProto: name 1, type 2 -> TypeProto.tensor_type 1 -> elem_type 1, shape 2 -> dim 1 -> dim_value 1.
-Pb ValueInfo(const std::string& name, const std::vector<int64_t>& dims) {
-  Pb shape;
-  for (int64_t d : dims) {
-    Pb dim;
-    dim.Int(1, d);
-    shape.Msg(1, dim);
-  }
-  Pb tensor;
-  tensor.Int(1, 1);
-  tensor.Msg(2, shape);
-  Pb type;
-  type.Msg(1, tensor);
-  Pb vi;
-  vi.Bytes(1, name);
-  vi.Msg(2, type);
-  return vi;
-}
-
-// AttributeProto with INTS (name 1, ints 8, type 20 = INTS (7)).
-Pb Ints(const std::string& name, const std::vector<int64_t>& v) {
-  Pb a;
-  a.Bytes(1, name);
-  for (int64_t x : v) a.Int(8, x);
-  a.Int(20, 7);
-  return a;
-}
-
-// NodeProto Conv: input 1, output 2, name 3, op_type 4, attribute 5.
-Pb Conv(const std::string& name, const std::string& in, const std::string& w, const std::string& bias,
-        const std::string& out, int kernel, int stride, int pad) {
-  Pb n;
-  n.Bytes(1, in), n.Bytes(1, w), n.Bytes(1, bias);
-  n.Bytes(2, out);
-  n.Bytes(3, name);
-  n.Bytes(4, "Conv");
-  n.Msg(5, Ints("kernel_shape", {kernel, kernel}));
-  n.Msg(5, Ints("strides", {stride, stride}));
-  n.Msg(5, Ints("pads", {pad, pad, pad, pad}));
-  return n;
-}
-
-}  // namespace
+using namespace onnx;
 
 void WriteTinySuperPoint(const std::string& path, const TinyModelSpec& s) {
   if (s.height % 8 != 0 || s.width % 8 != 0) throw std::runtime_error("tiny model: H and W must be multiples of 8");
@@ -106,27 +36,22 @@ void WriteTinySuperPoint(const std::string& path, const TinyModelSpec& s) {
   }
   const int64_t hc = s.height / 8, wc = s.width / 8;
   Pb graph;
-  graph.Msg(1, Conv("score_head", "image", "w_score", "b_score", "scores", 8, 8, 0));
-  graph.Msg(1, Conv("descriptor_head", "image", "w_desc", "b_desc", "descriptors", K, 8, 4));
+  auto conv = [](const std::string& w, const std::string& bias, const std::string& out, int64_t kernel, int64_t pad) {
+    return Node("Conv", {"image", w, bias}, out,
+                {IntsAttribute("kernel_shape", {kernel, kernel}), IntsAttribute("strides", {8, 8}),
+                 IntsAttribute("pads", {pad, pad, pad, pad})});
+  };
+  graph.Msg(1, conv("w_score", "b_score", "scores", 8, 0));
+  graph.Msg(1, conv("w_desc", "b_desc", "descriptors", K, 4));
   graph.Bytes(2, "tiny_superpoint");
-  graph.Msg(5, Tensor("w_score", {65, 1, 8, 8}, ws));
-  graph.Msg(5, Tensor("b_score", {65}, bs));
-  graph.Msg(5, Tensor("w_desc", {D, 1, K, K}, wd));
-  graph.Msg(5, Tensor("b_desc", {D}, bd));
+  graph.Msg(5, FloatTensor("w_score", {65, 1, 8, 8}, ws));
+  graph.Msg(5, FloatTensor("b_score", {65}, bs));
+  graph.Msg(5, FloatTensor("w_desc", {D, 1, K, K}, wd));
+  graph.Msg(5, FloatTensor("b_desc", {D}, bd));
   graph.Msg(11, ValueInfo("image", {1, 1, s.height, s.width}));
   graph.Msg(12, ValueInfo("scores", {1, 65, hc, wc}));
   graph.Msg(12, ValueInfo("descriptors", {1, D, hc, wc}));
-  Pb opset;
-  opset.Bytes(1, "");
-  opset.Int(2, 11);
-  Pb model;
-  model.Int(1, 7);  // ir_version
-  model.Bytes(2, "dynref tests");
-  model.Msg(7, graph);
-  model.Msg(8, opset);
-  std::ofstream out(path, std::ios::binary);
-  out.write(model.b.data(), static_cast<std::streamsize>(model.b.size()));
-  if (!out) throw std::runtime_error("tiny model: cannot write " + path);
+  WriteModel(graph, 11, "dynref tests", path);
 }
 
 }  // namespace dynref::test
