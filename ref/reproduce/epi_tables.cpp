@@ -249,8 +249,9 @@ int RunEpiTable(const EpiTableArgs& a) {
     md << "\n## Descriptor distance of correct and wrong nearest neighbours (BF, verifiable matches, all typologies "
           "but the light change)\n\nORB: Hamming bits of 256; SIFT: squared L2 of unit rows (in [0, 2] for SIFT's "
           "non-negative rows). The backbone's gates for `features: sift` (ref/features/sift_extractor.cpp) are read from "
-          "this table: TH_LOW near the 75th percentile of correct matches, TH_HIGH near the 95th (below most wrong ones), as "
-          "ORB-SLAM2's 50 / 100 bits sit for ORB.\n\n"
+          "this table where ORB-SLAM2's bit gates sit for ORB: TH_LOW (50 bits) near the 75th percentile of correct matches, "
+          "TH_HIGH (100 bits) above the 95th percentile of wrong ones, relocalisation's 64 bits near the wrong ones' "
+          "25th percentile.\n\n"
        << "| extractor | matches | p5 | p25 | p50 | p75 | p95 |\n|---|---|---|---|---|---|---|\n";
     for (auto& [name, d] : distances)
       for (int wrong = 0; wrong < 2; ++wrong) {
