@@ -164,6 +164,10 @@ TEST_CASE("epi reproduce: epi-table2 end to end on 10 frames, paper rows beside 
   const std::string md = ss.str();
   CHECK(md.find("| Light change | ORB + MNN2 | 1 |") != std::string::npos);  // one pair (0, 5) per sequence
   CHECK(md.find("| Low light (both frames dark) | SIFT + BF |") != std::string::npos);
+  // The distance distributions the backbone's SIFT gates are read from (issue 17).
+  CHECK(md.find("| SIFT correct | ") != std::string::npos);
+  CHECK(md.find("| SIFT wrong | ") != std::string::npos);
+  CHECK(md.find("| ORB wrong | ") != std::string::npos);
   CHECK(md.find("| Light change | Zippypoint + MNN2 | 295 | 83.10 | 0.245 |") != std::string::npos);  // paper row
   CHECK(md.find("| Low-texture environments | ORB + BF | 0 | 0.00 | 0.719 |") != std::string::npos);
 }
