@@ -16,8 +16,9 @@ using namespace dynref;
 
 namespace {
 
-std::string StaticRoom(int frames) {
-  const std::string dir = test::ScratchDir("plugin_seq");
+// Each test case synthesises its own copy: CTest runs them side by side.
+std::string StaticRoom(const std::string& name, int frames) {
+  const std::string dir = test::ScratchDir("plugin_seq_" + name);
   synth::SynthOptions so;
   so.preset = "static_xyz";
   so.frames = frames;
@@ -35,7 +36,7 @@ double Ate(const std::string& seq, const std::string& run) {
 }  // namespace
 
 TEST_CASE("feature plugin: SIFT + MNN2 tracks a static room within 1 cm, twice the same bytes, matches traced") {
-  const std::string seq = StaticRoom(40);
+  const std::string seq = StaticRoom("sift", 40);
   std::string dump[2];
   for (int k = 0; k < 2; ++k) {
     RunOptions o;
@@ -62,7 +63,7 @@ TEST_CASE("feature plugin: SIFT + MNN2 tracks a static room within 1 cm, twice t
 }
 
 TEST_CASE("feature plugin: a self-built ONNX SuperPoint runs through tracking and mapping") {
-  const std::string seq = StaticRoom(40);
+  const std::string seq = StaticRoom("onnx", 40);
   const std::string dir = test::ScratchDir("plugin_onnx");
   test::WriteTinySuperPoint(dir + "/tiny.onnx");  // 640 x 480 input, 32-float descriptors
   const std::string cfg = dir + "/onnx.yaml";
