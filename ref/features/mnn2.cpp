@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "features/descriptor.h"
+
 namespace dynref::features {
 namespace {
 
@@ -40,6 +42,14 @@ cv::Mat Distances(const cv::Mat& a, const cv::Mat& b) {
 }
 
 }  // namespace
+
+cv::Mat DistanceMatrix(const cv::Mat& A, const std::vector<int>& rows, const cv::Mat& B, const std::vector<int>& cols) {
+  cv::Mat d(static_cast<int>(rows.size()), static_cast<int>(cols.size()), CV_64F);
+  for (size_t r = 0; r < rows.size(); ++r)
+    for (size_t c = 0; c < cols.size(); ++c)
+      d.at<double>(static_cast<int>(r), static_cast<int>(c)) = RowDistance(A, rows[r], B, cols[c]);
+  return d;
+}
 
 std::vector<DescriptorMatch> SelectMnn2(const cv::Mat& d, double tau, const Mnn2Options& o) {
   std::vector<DescriptorMatch> out;

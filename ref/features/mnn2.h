@@ -37,6 +37,9 @@ struct DescriptorMatch {
 
 // D0, D1: CV_32F (float) or CV_8U (binary, one bit string per row); same type and width.
 std::vector<DescriptorMatch> MatchMnn2(const cv::Mat& D0, const cv::Mat& D1, const Mnn2Options& o);
+// CV_64F matrix of RowDistance (descriptor.h) between rows `rows` of A and rows `cols` of B: the
+// candidates a backbone matcher allows, in their units (Hamming bits or squared L2 of unit rows).
+cv::Mat DistanceMatrix(const cv::Mat& A, const std::vector<int>& rows, const cv::Mat& B, const std::vector<int>& cols);
 // The MNN2 rules on a precomputed CV_64F distance matrix (rows: D0, columns: D1) with gate tau;
 // the backbone's matchers use it on the candidates they allow (tracking/matcher.h).
 std::vector<DescriptorMatch> SelectMnn2(const cv::Mat& distances, double tau, const Mnn2Options& o);

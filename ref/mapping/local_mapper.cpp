@@ -7,10 +7,10 @@
 
 #include "core/error.h"
 #include "features/descriptor.h"
-#include "trace/trace_writer.h"
-#include "tracking/matcher.h"
 #include "geometry/triangulation.h"
 #include "optim/optim.h"
+#include "trace/trace_writer.h"
+#include "tracking/matcher.h"
 
 namespace dynref::mapping {
 namespace {
@@ -81,14 +81,10 @@ std::vector<std::pair<int, int>> SearchForTriangulation(const KeyFrame& k1, cons
   };
   std::vector<std::pair<int, int>> pairs;
   if (mnn2.enabled) {
-    cv::Mat d(static_cast<int>(cand1.size()), static_cast<int>(cand2.size()), CV_64F);
-    for (size_t a = 0; a < cand1.size(); ++a)
-      for (size_t b = 0; b < cand2.size(); ++b)
-        d.at<double>(static_cast<int>(a), static_cast<int>(b)) = RowDistance(D1, cand1[a], D2, cand2[b]);
     features::Mnn2Options o;
     o.ratio = mnn2.ratio;
     const double tau = k1.frame.match_profile.th_high;
-    for (const features::DescriptorMatch& m : features::SelectMnn2(d, tau, o)) {
+    for (const features::DescriptorMatch& m : features::SelectMnn2(features::DistanceMatrix(D1, cand1, D2, cand2), tau, o)) {
       const int i = cand1[static_cast<size_t>(m.i)], j = cand2[static_cast<size_t>(m.j)];
       if (!geometric_ok(i, j)) continue;
       pairs.emplace_back(i, j);

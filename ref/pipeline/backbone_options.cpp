@@ -254,8 +254,7 @@ features::ExtractorOptions BackboneOptions::Extractor() const {
 }
 
 void BackboneOptions::Check() const {
-  orb.Check();
-  Extractor().Check();
+  Extractor().Check();  // ORB options included
   tracker.Check();
   mapper.Check();
   mapping_clock.Check();

@@ -47,6 +47,10 @@ struct RunOptions {
   void Check() const;            // InputError naming the bad field
 };
 
+// End state of a run in which no frame had enough features with depth to start (a method's
+// result, unlike a sequence whose depth is zero everywhere).
+inline constexpr const char* kEndStateTooFewFeatures = "never-initialised: no frame had enough features with depth";
+
 struct RunResult {
   std::string end_state;         // "complete", "lost-at-end", "never-initialised", "error: ..."
   int exit_code = 0;             // 0 ok, 2 bad input (see ExitCode)

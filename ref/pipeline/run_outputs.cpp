@@ -64,7 +64,7 @@ void WriteTrajectoryFiles(const std::string& out_dir, const RunInputs& inputs, F
     if (result.tracked == 0) {
       result.end_state = loop.frames_zero_depth() == result.frames
                              ? "never-initialised: depth is zero in every frame"
-                             : "never-initialised: no frame had enough features with depth";
+                             : kEndStateTooFewFeatures;
       result.exit_code = kExitBadInput;
     } else if (!records.empty() && records.back().lost) {
       result.end_state = "lost-at-end";

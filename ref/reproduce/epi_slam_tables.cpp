@@ -26,8 +26,10 @@ const std::vector<Variant>& AblationVariants() {
                                          {"epi_ALL", "ALL (epi_ALL)", "ALL"}};
   return v;
 }
-// Configs with Module C, whose decisions need the full trace (counted, then dropped).
-bool HasModuleC(const std::string& config) { return config == "epi" || config == "epi_C" || config == "epi_BC" || config == "epi_ALL"; }
+// A config with Module C (stage epi.vote), whose decisions need the full trace (counted, then dropped).
+bool HasModuleC(const MethodConfig& config) {
+  return std::any_of(config.stages.begin(), config.stages.end(), [](const StageConfig& s) { return s.name == "epi.vote"; });
+}
 // Configs timed for Table 7.
 const std::vector<std::string>& TimedConfigs() {
   static const std::vector<std::string> c = {"epi", "epi_ALL"};
@@ -149,7 +151,7 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
         const bool ablation = std::count(a.ablation_sequences.begin(), a.ablation_sequences.end(), preset) > 0;
         for (const Variant& v : AblationVariants()) {
           if (!ablation && v.config != "orb" && v.config != "epi" && v.config != "epi_ALL") continue;
-          ws.set_stage_trace_level(HasModuleC(v.config) ? "full" : "frames");
+          ws.set_stage_trace_level(HasModuleC(cfg.at(v.config)) ? "full" : "frames");
           all_runs.push_back(ws.Run(seq, preset + "/" + v.config, cfg.at(v.config), v.label));
           AddRun(all_runs.back(), grid[l.name][preset][v.config]);
         }

@@ -336,7 +336,7 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
     const RunResult r = RunSequence(o);
     // A method that never finds enough features to start (e.g. SIFT in the dark) is a result of
     // the table (0 % tracked, no ATE), not a failure of the reproducer.
-    const bool never_started = r.end_state.rfind("never-initialised: no frame had enough features", 0) == 0;
+    const bool never_started = r.end_state == kEndStateTooFewFeatures;
     if (r.exit_code != 0 && !never_started) throw InputError(s.run_dir, "run failed: " + r.end_state);
     if (never_started) std::cerr << "reproduce: " << run_name << " never initialised (kept as 0 % tracked)\n";
     AtomicWriteFile(marker, key);

@@ -169,10 +169,7 @@ int SearchByMnn2(const KeyFrame& kf, Frame& cur, const Map& map, double ratio, b
     if (kf.map_point_ids[i] >= 0 && map.good_mp(kf.map_point_ids[i]) != nullptr) rows.push_back(static_cast<int>(i));
   for (size_t j = 0; j < cur.N(); ++j)
     if (cur.map_point_ids[j] < 0 && !cur.IsExcluded(static_cast<int>(j))) cols.push_back(static_cast<int>(j));
-  cv::Mat d(static_cast<int>(rows.size()), static_cast<int>(cols.size()), CV_64F);
-  for (size_t r = 0; r < rows.size(); ++r)
-    for (size_t c = 0; c < cols.size(); ++c)
-      d.at<double>(static_cast<int>(r), static_cast<int>(c)) = RowDistance(kff.descriptors, rows[r], cur.descriptors, cols[c]);
+  const cv::Mat d = features::DistanceMatrix(kff.descriptors, rows, cur.descriptors, cols);
   features::Mnn2Options o;
   o.ratio = ratio;
   const double tau = cur.match_profile.th_high;
