@@ -218,11 +218,14 @@ void AddBench(CLI::App* parent, CommandList& out) {
 
 }  // namespace
 
+void AddTraceVerify(CLI::App* parent, CommandList& out);  // cmd_trace_verify.cpp
+
 void RegisterTraceCommand(CLI::App& root, CommandList& out) {
-  CLI::App* trace = root.add_subcommand("trace", "Read traces: dump, feature history, bench");
+  CLI::App* trace = root.add_subcommand("trace", "Read traces: dump, feature history, verify, bench");
   trace->require_subcommand(1);
   AddDump(trace, out);
   AddFeature(trace, out);
+  AddTraceVerify(trace, out);
   AddBench(trace, out);
 }
 

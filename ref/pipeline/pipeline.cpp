@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -36,6 +37,12 @@ trace::RunHeader MakeHeader(const RunOptions& options, const RunInputs& in) {
     if (fs::exists(p)) header.input_hashes.emplace_back(f, Sha256File(p));
   }
   header.detector_source = in.detector_name;
+  const Camera& c = in.sequence.camera;
+  nlohmann::json cam = {{"fx", c.fx}, {"fy", c.fy}, {"cx", c.cx}, {"cy", c.cy}, {"bf", c.bf},
+                        {"th_depth", c.th_depth}, {"width", c.width}, {"height", c.height},
+                        {"depth_factor", c.depth_factor}, {"k1", c.k1}, {"k2", c.k2}, {"p1", c.p1},
+                        {"p2", c.p2}, {"k3", c.k3}};
+  header.extra.emplace_back("camera_json", cam.dump());  // trace verify back-projects with it
   return header;
 }
 

@@ -174,6 +174,7 @@ TraceWriter::TraceWriter(const std::string& path, Level level, const RunHeader& 
       {"sequence_path", header.sequence_path},   {"detector_source", header.detector_source},
       {"detections_dir", header.detections_dir}};
   for (const auto& [file, hash] : header.input_hashes) kv.push_back({"input_sha256:" + file, hash});
+  for (const auto& [key, value] : header.extra) kv.push_back({key, value});
   w.Varint(kv.size());
   for (const auto& [k, v] : kv) {
     w.Str(k);

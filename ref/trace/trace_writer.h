@@ -57,6 +57,9 @@ struct RunHeader {
   std::vector<std::pair<std::string, std::string>> input_hashes;  // (file, sha256), sorted by file
   std::string detector_source;  // e.g. "none", "synthetic:yolo-like", "nanodet sha256:..."
   std::string detections_dir;   // detections folder used (empty if none); read by overlays
+  // Further keys written after the fixed ones, e.g. "camera_json" (the pinhole camera the
+  // verifier back-projects with); readers ignore keys they do not know.
+  std::vector<std::pair<std::string, std::string>> extra;
 };
 
 class TraceWriter {

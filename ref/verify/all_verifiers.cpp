@@ -1,0 +1,16 @@
+#include "verify/verifier.h"
+
+namespace dynref::verify {
+
+VerifierList AllVerifiers() {
+  VerifierList out;
+  AddBackboneVerifiers(out);
+  AddMgdVerifiers(out);
+  AddBlurVerifiers(out);
+  AddEpiVerifiers(out);
+  AddSgdoVerifiers(out);
+  AddSemanticVerifiers(out);
+  return out;
+}
+
+}  // namespace dynref::verify
