@@ -41,6 +41,8 @@ int RunMapEval(const MapEvalArgs& a) {
       throw InputError(a.gt + "/gt/" + f, "missing: --gt needs a sequence written by dynref synth (scene ground truth)");
   const std::string traj = a.trajectory.empty() ? (fs::path(a.map).parent_path() / "trajectory.txt").string() : a.trajectory;
   const dense::PointCloud cloud = ext == ".ply" ? dense::ReadPly(a.map) : dense::ReadPcd(a.map);
+  // Accuracy and ghost fraction of no points are undefined, not 0 (issue 37).
+  if (cloud.empty()) throw InputError(a.map, "the map has 0 points: nothing to evaluate");
   // The map lives in the run's world frame, anchored at its first camera (eval/map_eval.h).
   double traj_rmse = 0;
   const SE3 T = MapToGroundTruth(ReadTumTrajectory(a.gt + "/groundtruth.txt"), ReadTumTrajectory(traj),

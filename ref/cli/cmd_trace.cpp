@@ -9,6 +9,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "render/feature_plot.h"
+#include "trace/trace_copy.h"
 #include "trace/trace_dump.h"
 #include "trace/trace_feature.h"
 #include "trace/trace_reader.h"
@@ -75,24 +76,35 @@ void AddDump(CLI::App* parent, CommandList& out) {
 void AddFeature(CLI::App* parent, CommandList& out) {
   struct Args {
     std::string run, id, plot;
+    bool follow = false;
   };
   auto args = std::make_shared<Args>();
   CLI::App* app = parent->add_subcommand(
       "feature", "Whole life of one feature (f<frame>.<index>) or map point (mp<id>): every "
                  "observation, update, residual and decision across frames");
   app->add_option("run", args->run, "Run directory or trace file")->required();
-  app->add_option("id", args->id, "Entity id, e.g. mp17 or f42.3 (any canonical id: f|i|l|pl|r<frame>.<n>, mp|kf<n>)")
+  app->add_option("id", args->id, "Entity id, e.g. mp17 or f42.3 (any canonical id: f|i|l|pl|r<frame>.<n>, mp|kf|ml|mpl<n>)")
       ->required();
-  app->footer("Exit 1 if no record mentions ID; exit 2 for a malformed ID or an unreadable trace.");
+  app->footer(
+      "--follow chains the entity across the run: previous-frame links (PROB input prev_index), "
+      "map point / map line links (PROB inputs map_point, map_line; OBS associated_map_point_id) and "
+      "instance masks with the same id; it prints the chain as '# <frame> -> <entity>' lines, then "
+      "the records of every entity in it (ref/trace/README.md \"Following a feature\").\n"
+      "Exit 1 if no record mentions ID; exit 2 for a malformed ID or an unreadable trace.");
   app->add_option("--plot", args->plot, "Write probability vs frame to this PNG");
+  app->add_flag("--follow", args->follow,
+                "Follow the feature / line / mask / map point across frames (chain, then its records)");
   out.push_back({app, [args] {
                    if (!trace::IsCanonicalEntityId(args->id))
                      throw InputError("id", "'" + args->id + "' is not an entity id (expected f<frame>.<index>, "
                                             "mp<id>, kf<id>, i|l|pl|r<frame>.<index>, optionally @f<frame>|@kf<id>)");
                    trace::TraceReader reader(trace::ResolveTracePath(args->run));
-                   const trace::FeatureHistory h = trace::CollectFeatureHistory(reader, args->id);
-                   trace::WriteFeatureTable(h, std::cout);
+                   const trace::FeatureHistory h = args->follow ? trace::CollectFollowHistory(reader, args->id)
+                                                                : trace::CollectFeatureHistory(reader, args->id);
+                   // The plot first: a reader closing stdout early (| head) must not lose it.
                    if (!args->plot.empty()) render::WriteFeaturePlot(h, args->plot);
+                   if (args->follow) trace::WriteChainSection(h, std::cout);
+                   trace::WriteFeatureTable(h, std::cout);
                    if (h.rows.empty()) {
                      std::cerr << "dynref: no record of " << reader.path() << " mentions " << args->id << "\n";
                      return int{kExitCheckFailed};
@@ -111,30 +123,7 @@ int Replay(const std::string& path, const std::string& out_path) {
   const std::clock_t c0 = std::clock();
   TraceWriter w(out_path, in.level(), RunHeader{});
   for (const auto& recs : groups)
-    for (const Record& r : recs) {
-      switch (r.type) {
-        case RecordType::kFrame: w.BeginFrame(static_cast<int>(r.frame), r.timestamp); break;
-        case RecordType::kPose: {
-          SE3 T = SE3::Identity();
-          for (int i = 0; i < 12; ++i) T.matrix()(i / 4, i % 4) = r.T_wc[i];
-          w.FramePose(r.name, T);
-          break;
-        }
-        case RecordType::kCount: w.FrameCount(r.stage, r.name, r.value); break;
-        case RecordType::kObservation:
-          w.Observation(r.feature_index, r.map_point_id, r.u, r.v, r.depth_m, static_cast<int>(r.octave),
-                        r.descriptor_hash);
-          break;
-        case RecordType::kProbability:
-          w.ProbabilityUpdate(r.stage, r.kind, r.entity, r.inputs, r.before, r.after);
-          break;
-        case RecordType::kResidual:
-          w.Residual(r.stage, r.residual_kind, r.entity, r.residual_start, r.residual_end,
-                     r.information, r.weight, r.robust_loss, r.chi2, r.inlier);
-          break;
-        case RecordType::kDecision: w.Decision(r.stage, r.kind, r.entity, r.kept, r.reason); break;
-      }
-    }
+    for (const Record& r : recs) WriteRecord(w, r);
   w.Close(in.end_state());
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
@@ -183,7 +172,7 @@ void AddBench(CLI::App* parent, CommandList& out) {
                      w.FrameCount("extract", "keypoints", args->features);
                      const std::string fsuffix = "@f" + std::to_string(f);
                      for (int i = 0; i < args->features; ++i) {
-                       w.Observation(i, i * 7, 100.5 + i, 200.25, 1.5, i % 8, 0x9e3779b97f4a7c15ULL * i);
+                       w.Observation(i, i * 7, i * 7, 100.5 + i, 200.25, 1.5, i % 8, 0x9e3779b97f4a7c15ULL * i);
                        w.ProbabilityUpdate("mgd.temporal", EntityKind::kMapPoint, mp_ids[i],
                                            {{"d_px", 0.25 * i}, {"prior", 0.5}}, 0.5, 0.25);
                        if (i % 5 == 0)

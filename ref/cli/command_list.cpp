@@ -21,6 +21,9 @@ void RegisterRunCommand(CLI::App& root, CommandList& out);
 void RegisterReproduceCommand(CLI::App& root, CommandList& out);
 void RegisterEnhanceCommand(CLI::App& root, CommandList& out);
 void RegisterMapEvalCommand(CLI::App& root, CommandList& out);
+void RegisterOverviewCommand(CLI::App& root, CommandList& out);
+void RegisterViewCommand(CLI::App& root, CommandList& out);
+void RegisterVocabCommand(CLI::App& root, CommandList& out);
 
 void RegisterAllCommands(CLI::App& root, CommandList& out) {
   RegisterVersionCommand(root, out);
@@ -34,7 +37,10 @@ void RegisterAllCommands(CLI::App& root, CommandList& out) {
   RegisterSynthCommand(root, out);
   RegisterRunCommand(root, out);
   RegisterReproduceCommand(root, out);
+  RegisterOverviewCommand(root, out);
+  RegisterViewCommand(root, out);
   RegisterEnhanceCommand(root, out);
+  RegisterVocabCommand(root, out);
 }
 
 uint64_t ParseSeed(const std::string& text, const std::string& option) {

@@ -4,6 +4,7 @@
 #include <cstdlib>
 
 #include "core/error.h"
+#include "core/resources.h"
 #include "detect/sources.h"
 #include "io/coco_classes.h"
 
@@ -13,10 +14,11 @@ const char* const kNanodetSha256 = "70fda317330d4a961db7c4408e199022f0e9361a183e
 const char* const kSelfieSha256 = "f008c9552c340278ecccd5954e1007ba2846c080fda59dc5b70e0876b774531d";
 
 std::string BundledModelPath(const std::string& file_name) {
-  // DYNREF_MODELS_DIR (environment) overrides the source tree's models/ folder, e.g. for an
-  // installed binary; the file contents are still checked against the bundled sha256.
+  // DYNREF_MODELS_DIR (environment) overrides the data folder's models/ (core/resources.h:
+  // <exe>/../share/dynref when installed, else the source tree); the file contents are still
+  // checked against the bundled sha256.
   const char* env = std::getenv("DYNREF_MODELS_DIR");
-  const std::string dir = (env && *env) ? std::string(env) : std::string(DYNREF_MODELS_DIR);
+  const std::string dir = (env && *env) ? std::string(env) : ResourcePath("models");
   return dir + "/" + file_name;
 }
 

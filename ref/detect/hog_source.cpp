@@ -24,6 +24,13 @@ class HogSource : public DetectionSource {
 
   FrameDetections Detect(const cv::Mat& bgr, const std::string& stamp_text) override {
     RequireBgrImage(bgr, stamp_text, "hog");
+    // An image smaller than the detection window (64x128) holds no window position: no
+    // detections (issue 37). OpenCV's pyramid only shrinks the image (scale >= 1), so nothing is
+    // lost by not upscaling, and OpenCV 4.6's detectMultiScale always evaluates its first level
+    // even when the window does not fit, reading and writing out of bounds (heap corruption on
+    // 16x16 / 32x32, an assertion on 48x64).
+    if (bgr.cols < hog_.winSize.width || bgr.rows < hog_.winSize.height)
+      return CandidatesToFrame({}, stamp_text, CocoClassNames());
     std::vector<cv::Rect> found;
     std::vector<double> weights;
     // OpenCV defaults: stride 8, scale step 1.05, groups of >= 2 raw hits merged.

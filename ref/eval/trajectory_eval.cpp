@@ -28,6 +28,9 @@ void RpeOptions::Check() const {
   // TUM's closest-index search compares stamp + delta in double: beyond ~1e9 the stamps'
   // differences vanish and it returns meaningless (even backward) pairs.
   if (delta > 1e9) throw InputError("--delta", "must be <= 1e9, got " + FormatDouble17(delta));
+  // A frame delta counts poses: 0.5 frames would pair every pose with itself (issue 37).
+  if (unit == DeltaUnit::kFrames && delta != std::floor(delta))
+    throw InputError("--delta", "with --delta-unit f must be a whole number of frames >= 1, got " + FormatDouble17(delta));
   if (!std::isfinite(offset_s))
     throw InputError("--offset", "must be a finite number, got " + FormatDouble17(offset_s));
 }
@@ -138,7 +141,15 @@ RpeResult ComputeRpe(const TumTrajectory& gt, const TumTrajectory& est,
   for (size_t i = 0; i < stamps_est.size(); ++i) {
     const size_t j = TumFindClosestIndex(index_est, index_est[i] + options.delta);
     if (j == last && !interp) continue;
-    if (interp && j == i) continue;  // the last pose paired with itself
+    if (interp && j == i && i == last) continue;  // the last pose paired with itself
+    // A pose paired with itself (a delta in seconds shorter than half the estimate's frame
+    // interval) has zero error by construction: refuse instead of diluting the statistics.
+    if (j == i)
+      throw InputError("--delta", "delta = " + FormatDouble17(options.delta) +
+                                      " s pairs estimate pose " + std::to_string(i) + " (stamp " +
+                                      FormatDouble17(stamps_est[i]) +
+                                      ") with itself: it is shorter than half the estimate's frame interval; give a "
+                                      "larger --delta or --delta-unit f");
     ++r.candidate_pairs;
     RpePair p;
     p.est_0 = i;

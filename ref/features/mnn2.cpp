@@ -51,28 +51,43 @@ cv::Mat DistanceMatrix(const cv::Mat& A, const std::vector<int>& rows, const cv:
   return d;
 }
 
-std::vector<DescriptorMatch> SelectMnn2(const cv::Mat& d, double tau, const Mnn2Options& o) {
-  std::vector<DescriptorMatch> out;
+std::vector<Mnn2Candidate> SelectMnn2Candidates(const cv::Mat& d, double tau, const Mnn2Options& o) {
+  std::vector<Mnn2Candidate> out;
   if (d.empty()) return out;
   std::vector<int> reverse(size_t(d.cols), -1);  // nearest row of D0 for each column
+  std::vector<double> reverse_d(size_t(d.cols), std::numeric_limits<double>::infinity());
   for (int j = 0; j < d.cols; ++j) {
     double best = std::numeric_limits<double>::infinity();
     for (int i = 0; i < d.rows; ++i)
       if (d.at<double>(i, j) < best) best = d.at<double>(i, j), reverse[size_t(j)] = i;
+    reverse_d[size_t(j)] = best;
   }
   for (int i = 0; i < d.rows; ++i) {
     const double* r = d.ptr<double>(i);
-    int j1 = -1;
+    int j1 = -1, j2 = -1;
     double b1 = std::numeric_limits<double>::infinity(), b2 = b1;
     for (int j = 0; j < d.cols; ++j) {
-      if (r[j] < b1) b2 = b1, b1 = r[j], j1 = j;
-      else if (r[j] < b2) b2 = r[j];
+      if (r[j] < b1) b2 = b1, j2 = j1, b1 = r[j], j1 = j;
+      else if (r[j] < b2) b2 = r[j], j2 = j;
     }
-    if (j1 < 0 || !(b1 < tau)) continue;
-    if (o.ratio_test && !(b1 < o.ratio * b2)) continue;
-    if (o.mutual && reverse[size_t(j1)] != i) continue;
-    out.push_back({i, j1, b1, b2});
+    if (j1 < 0) continue;
+    Mnn2Candidate c;
+    c.match = {i, j1, b1, b2};
+    c.second_j = j2;
+    c.reverse_i = reverse[size_t(j1)];
+    c.reverse_distance = reverse_d[size_t(j1)];
+    if (!(b1 < tau)) c.outcome = Mnn2Outcome::kTau;
+    else if (o.ratio_test && !(b1 < o.ratio * b2)) c.outcome = Mnn2Outcome::kRatio;
+    else if (o.mutual && reverse[size_t(j1)] != i) c.outcome = Mnn2Outcome::kNotMutual;
+    out.push_back(c);
   }
+  return out;
+}
+
+std::vector<DescriptorMatch> SelectMnn2(const cv::Mat& d, double tau, const Mnn2Options& o) {
+  std::vector<DescriptorMatch> out;
+  for (const Mnn2Candidate& c : SelectMnn2Candidates(d, tau, o))
+    if (c.outcome == Mnn2Outcome::kAccepted) out.push_back(c.match);
   return out;
 }
 

@@ -43,6 +43,19 @@ cv::Mat DistanceMatrix(const cv::Mat& A, const std::vector<int>& rows, const cv:
 // The MNN2 rules on a precomputed CV_64F distance matrix (rows: D0, columns: D1) with gate tau;
 // the backbone's matchers use it on the candidates they allow (tracking/matcher.h).
 std::vector<DescriptorMatch> SelectMnn2(const cv::Mat& distances, double tau, const Mnn2Options& o);
+
+// What the MNN2 rule decided for one row (the trace of rejected candidates, ref/trace/README.md
+// "Backbone MNN2 matches"): the tests in the order SelectMnn2 applies them, the first that fails.
+enum class Mnn2Outcome { kAccepted = 0, kTau = 1, kRatio = 2, kNotMutual = 3 };
+struct Mnn2Candidate {
+  DescriptorMatch match;       // i, j = nearest column j1, distance = d(i, j1), second = d(i, j2)
+  int second_j = -1;           // j2 (-1 when D1 has one column)
+  int reverse_i = -1;          // nearest row of column j1 (the mutual check: accepted needs == i)
+  double reverse_distance = 0; // d(reverse_i, j1)
+  Mnn2Outcome outcome = Mnn2Outcome::kAccepted;
+};
+// Every row with a nearest column, accepted or not (SelectMnn2 = the accepted ones, same order).
+std::vector<Mnn2Candidate> SelectMnn2Candidates(const cv::Mat& distances, double tau, const Mnn2Options& o);
 // Plain nearest neighbour ("BF" in Table 2): every row of D0 to its nearest row of D1, no test.
 std::vector<DescriptorMatch> MatchNearest(const cv::Mat& D0, const cv::Mat& D1);
 

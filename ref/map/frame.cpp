@@ -49,9 +49,21 @@ void Frame::Exclude(int i, const std::string& stage, const std::string& reason) 
   if (excluded_.empty()) excluded_.assign(N(), 0);
   if (excluded_[i]) return;
   excluded_[i] = 1;
-  if (i < static_cast<int>(map_point_ids.size())) map_point_ids[i] = -1;
+  DropAssociation(i);
   if (trace != nullptr)
     trace->Decision(stage, trace::EntityKind::kFeature, FeatureId(i), false, reason);
+}
+
+void Frame::DropAssociation(int i) {
+  if (i >= static_cast<int>(map_point_ids.size()) || map_point_ids[i] < 0) return;
+  if (dropped_map_point_ids_.size() < map_point_ids.size()) dropped_map_point_ids_.resize(map_point_ids.size(), -1);
+  dropped_map_point_ids_[i] = map_point_ids[i];
+  map_point_ids[i] = -1;
+}
+
+int64_t Frame::AssociatedMapPoint(int i) const {
+  if (i < static_cast<int>(map_point_ids.size()) && map_point_ids[i] >= 0) return map_point_ids[i];
+  return i < static_cast<int>(dropped_map_point_ids_.size()) ? dropped_map_point_ids_[i] : -1;
 }
 
 void Frame::SetWeight(int i, double w) {
@@ -119,6 +131,7 @@ void Frame::FinishFeatures(const Camera& cam, double depth_edge_rel) {
   outlier.assign(n, 0);
   excluded_.clear();
   weights_.clear();
+  dropped_map_point_ids_.clear();
   // Grid (ORB-SLAM2 AssignFeaturesToGrid / PosInGrid).
   grid_.assign(kGridCols * kGridRows, {});
   grid_inv_w_ = kGridCols / (max_x - min_x);

@@ -75,8 +75,16 @@ class Frame {
 
   // ---- per-feature method state ----
   // Marks feature i excluded; logs Decision(stage, kFeature, "f<index>.<i>", kept=false, reason).
-  // A matched map point association is removed. Excluding twice keeps the first reason.
+  // A matched map point association is removed (and remembered: AssociatedMapPoint). Excluding
+  // twice keeps the first reason.
   void Exclude(int i, const std::string& stage, const std::string& reason);
+  // Removes feature i's map point association (map_point_ids[i] = -1) and remembers it, so the
+  // trace can still name the point the stages saw (OBS associated_map_point_id, trace schema 3).
+  // For code that drops an association the stages saw, e.g. a final-optimisation outlier.
+  void DropAssociation(int i);
+  // The map point feature i is associated with (map_point_ids[i], outlier or not) or, when that
+  // is -1, the last one Exclude / DropAssociation removed; -1 when never associated.
+  int64_t AssociatedMapPoint(int i) const;
   bool IsExcluded(int i) const { return !excluded_.empty() && excluded_[i] != 0; }
   // Weight in [0, inf) multiplying the information of the feature's residuals (default 1).
   void SetWeight(int i, double w);
@@ -109,6 +117,7 @@ class Frame {
  private:
   std::vector<uint8_t> excluded_;
   std::vector<double> weights_;
+  std::vector<int64_t> dropped_map_point_ids_;  // association removed by Exclude/DropAssociation (-1)
   std::vector<std::vector<int>> grid_;  // kGridCols * kGridRows cells, row-major by column
   float grid_inv_w_ = 0, grid_inv_h_ = 0;
 };

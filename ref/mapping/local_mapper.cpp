@@ -84,14 +84,44 @@ std::vector<std::pair<int, int>> SearchForTriangulation(const KeyFrame& k1, cons
     features::Mnn2Options o;
     o.ratio = mnn2.ratio;
     const double tau = k1.frame.match_profile.th_high;
-    for (const features::DescriptorMatch& m : features::SelectMnn2(features::DistanceMatrix(D1, cand1, D2, cand2), tau, o)) {
-      const int i = cand1[static_cast<size_t>(m.i)], j = cand2[static_cast<size_t>(m.j)];
-      if (!geometric_ok(i, j)) continue;
-      pairs.emplace_back(i, j);
-      if (trace.full_enabled())
-        trace.ProbabilityUpdate("match.mnn2.triangulation", trace::EntityKind::kFeature, k2.frame.FeatureId(j),
-                                tracking::Mnn2TraceInputs(m, tau, {{"kf", double(k1.id)}, {"kf_feature", double(i)}}),
-                                0.0, 0.0);
+    for (const features::Mnn2Candidate& c :
+         features::SelectMnn2Candidates(features::DistanceMatrix(D1, cand1, D2, cand2), tau, o)) {
+      const int i = cand1[static_cast<size_t>(c.match.i)], j = cand2[static_cast<size_t>(c.match.j)];
+      const bool accepted = c.outcome == features::Mnn2Outcome::kAccepted && geometric_ok(i, j);
+      if (accepted) pairs.emplace_back(i, j);
+      if (!trace.full_enabled()) continue;
+      // Every row MNN2 looked at (epi owns this record; ref/trace/README.md "Backbone MNN2
+      // matches"): the descriptor rule's inputs and, for a row it accepted, the geometric tests'.
+      double outcome = static_cast<double>(c.outcome), epipole_d2 = NAN, epipole_gate = NAN, line_d2 = NAN,
+             line_gate = NAN;
+      if (c.outcome == features::Mnn2Outcome::kAccepted) {
+        const cv::KeyPoint& kp1 = k1.frame.keys_un[i];
+        const cv::KeyPoint& kp2 = k2.frame.keys_un[j];
+        if (k1.frame.u_right[i] < 0 && k2.frame.u_right[j] < 0) {
+          epipole_d2 = (ex - kp2.pt.x) * (ex - kp2.pt.x) + (ey - kp2.pt.y) * (ey - kp2.pt.y);
+          epipole_gate = 100 * k2.frame.pyramid.scale[kp2.octave];
+        }
+        const double a = kp1.pt.x * F12(0, 0) + kp1.pt.y * F12(1, 0) + F12(2, 0);
+        const double b = kp1.pt.x * F12(0, 1) + kp1.pt.y * F12(1, 1) + F12(2, 1);
+        const double cc = kp1.pt.x * F12(0, 2) + kp1.pt.y * F12(1, 2) + F12(2, 2);
+        const double num = a * kp2.pt.x + b * kp2.pt.y + cc, den = a * a + b * b;
+        line_d2 = den == 0 ? INFINITY : num * num / den;
+        line_gate = 3.84 * k2.frame.pyramid.sigma2[kp2.octave];
+        if (!accepted) outcome = tracking::kMnn2OutcomeGeometry;
+      }
+      std::vector<trace::NamedValue> in = tracking::Mnn2TraceInputs(
+          c.match, tau, {{"kf", double(k1.id)}, {"kf_feature", double(i)}, {"kf2", double(k2.id)}});
+      in.push_back({"rho", mnn2.ratio});
+      in.push_back({"second_feature", c.second_j < 0 ? -1.0 : double(cand2[static_cast<size_t>(c.second_j)])});
+      in.push_back({"reverse_kf_feature", double(cand1[static_cast<size_t>(c.reverse_i)])});
+      in.push_back({"reverse_distance", c.reverse_distance});
+      in.push_back({"epipole_d2", epipole_d2});
+      in.push_back({"epipole_gate", epipole_gate});
+      in.push_back({"line_d2", line_d2});
+      in.push_back({"line_gate", line_gate});
+      in.push_back({"outcome", outcome});
+      trace.ProbabilityUpdate("match.mnn2.triangulation", trace::EntityKind::kFeature, k2.frame.FeatureId(j), in,
+                              0.0, 0.0);
     }
     return pairs;
   }
@@ -381,6 +411,7 @@ int LocalMapper::LocalBundleAdjustment(KeyFrame& kf, LocalMapperStats* stats) {
       o.u_right = k->frame.u_right[idx];
       o.inv_sigma2 = k->frame.pyramid.inv_sigma2[k->frame.keys_un[idx].octave];
       o.weight = k->frame.Weight(idx);
+      o.trace_feature = idx;  // link record (optim.h)
       obs.push_back(o);
     }
   }

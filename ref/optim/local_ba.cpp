@@ -368,6 +368,12 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
     return PlaneChi2(T[plane_edges[i].kf], problem.PlaneAt(plane_edges[i]), st.options, raw, weighted);
   };
   std::vector<uint8_t> line_active(line_edges.size(), 0), plane_active(plane_edges.size(), 0);
+  // Outlier-test chi2 after the robust phase (+inf: not in it), for the link records.
+  const double kInf = std::numeric_limits<double>::infinity();
+  std::vector<double> robust_chi2(log ? n : 0, kInf), line_robust_chi2(log ? line_edges.size() : 0, kInf),
+      plane_robust_chi2(log ? plane_edges.size() : 0, kInf);
+  const std::string link = log ? LinkStage(call_id) : std::string();
+  constexpr int kFeature = 0, kLineSample = 3, kPlane = 4;  // trace::EntityKind
 
   // Only edges with a valid projection at the start enter the robust phase.
   std::vector<uint8_t> active(n, 0);
@@ -391,12 +397,22 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
     const std::vector<Eigen::Vector3d> X = problem.Points();
     for (size_t i = 0; i < n; ++i) {
       if (!active[i]) continue;
-      active[i] = EdgeChi2(K, T, X, edges[i], nullptr) <= edges[i].threshold ? 1 : 0;
+      const double c = EdgeChi2(K, T, X, edges[i], nullptr);
+      if (log) robust_chi2[i] = c;
+      active[i] = c <= edges[i].threshold ? 1 : 0;
     }
-    for (size_t i = 0; i < line_edges.size(); ++i)
-      if (line_active[i]) line_active[i] = line_chi2(T, i, nullptr, nullptr) <= line_th ? 1 : 0;
-    for (size_t i = 0; i < plane_edges.size(); ++i)
-      if (plane_active[i]) plane_active[i] = plane_chi2(T, i, nullptr, nullptr) <= plane_th ? 1 : 0;
+    for (size_t i = 0; i < line_edges.size(); ++i) {
+      if (!line_active[i]) continue;
+      const double c = line_chi2(T, i, nullptr, nullptr);
+      if (log) line_robust_chi2[i] = c;
+      line_active[i] = c <= line_th ? 1 : 0;
+    }
+    for (size_t i = 0; i < plane_edges.size(); ++i) {
+      if (!plane_active[i]) continue;
+      const double c = plane_chi2(T, i, nullptr, nullptr);
+      if (log) plane_robust_chi2[i] = c;
+      plane_active[i] = c <= plane_th ? 1 : 0;
+    }
   }
   // Phase 2: no robust kernel, outliers excluded (ORB-SLAM2 optimize(10)).
   problem.Solve(options.iterations_refine, /*robust=*/false, active, line_active, plane_active);
@@ -416,8 +432,9 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
     result.num_inliers += result.inlier[i];
     if (log) {
       const BAObservation& o = observations[i];
-      trace->Residual(call_id, edges[i].stereo ? "rgbd3" : "mono2",
-                      "mp" + std::to_string(o.point_id) + "@kf" + std::to_string(o.kf_id),
+      const std::string obs_id = "mp" + std::to_string(o.point_id) + "@kf" + std::to_string(o.kf_id);
+      WriteResidualLink(*trace, link, kFeature, obs_id, "feature", o.trace_feature, {{"robust_chi2", robust_chi2[i]}});
+      trace->Residual(call_id, edges[i].stereo ? "rgbd3" : "mono2", obs_id,
                       residual_start[i], residual_end, o.inv_sigma2, o.weight,
                       HuberRho(weighted, edges[i].threshold), chi2[i], result.inlier[i] != 0);
     }
@@ -433,8 +450,9 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
     result.line_inlier[i] = line_active[i] && c <= line_th ? 1 : 0;
     if (log) {
       const BALineObservation& o = st.line_observations[i];
-      trace->Residual(call_id, st.options.literal_line ? "line1" : "line4",
-                      "ml" + std::to_string(o.line_id) + "@kf" + std::to_string(o.kf_id), line_start[i], residual_end,
+      const std::string obs_id = "ml" + std::to_string(o.line_id) + "@kf" + std::to_string(o.kf_id);
+      WriteResidualLink(*trace, link, kLineSample, obs_id, "line", o.trace_line, {{"robust_chi2", line_robust_chi2[i]}});
+      trace->Residual(call_id, st.options.literal_line ? "line1" : "line4", obs_id, line_start[i], residual_end,
                       1.0 / (st.options.line_sigma_px * st.options.line_sigma_px), o.weight,
                       HuberRho(weighted, line_th), c, result.line_inlier[i] != 0);
     }
@@ -445,7 +463,9 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
     result.plane_inlier[i] = plane_active[i] && c <= plane_th ? 1 : 0;
     if (log) {
       const BAPlaneObservation& o = st.plane_observations[i];
-      trace->Residual(call_id, "plane3", "mpl" + std::to_string(o.plane_id) + "@kf" + std::to_string(o.kf_id),
+      const std::string obs_id = "mpl" + std::to_string(o.plane_id) + "@kf" + std::to_string(o.kf_id);
+      WriteResidualLink(*trace, link, kPlane, obs_id, "plane", o.trace_plane, {{"robust_chi2", plane_robust_chi2[i]}});
+      trace->Residual(call_id, "plane3", obs_id,
                       plane_start[i], residual_end, 1.0 / (st.options.plane_dist_sigma_m * st.options.plane_dist_sigma_m),
                       o.weight, HuberRho(weighted, plane_th), c, result.plane_inlier[i] != 0);
     }

@@ -18,6 +18,13 @@
 // the call, information = inv_sigma2, the weight, robust_loss = Huber rho(chi2) at the end state
 // (rho(s) = s for s <= delta^2, 2 delta sqrt(s) - delta^2 otherwise), chi2 at the end and the
 // returned inlier flag.
+// Link records (ref/optim/README.md "Trace"): right before each Residual record, when the
+// observation carries its frame index (trace_feature / trace_line / trace_plane >= 0), a PROB
+// record of stage "<call family>.obs" ("track.pose.obs", "localba.obs") on the residual's
+// observation id, p = 0, naming what `dynref trace verify` needs to recompute the residual:
+//   pose-only points: feature, x, y, z (the fixed world point);  lines: line;  planes: plane
+//   local BA points: feature, robust_chi2 (outlier-test chi2 after the robust phase, +inf when the
+//   edge did not enter it);  lines: line, robust_chi2;  planes: plane, robust_chi2
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
@@ -47,6 +54,7 @@ struct PoseObservation {
   double inv_sigma2 = 1;  // 1/sigma^2 of the keypoint octave (ORB-SLAM2 information)
   double weight = 1;      // method weight multiplying the information, 0..1
   std::string obs_id;     // trace id, e.g. "mp17@f42"
+  int64_t trace_feature = -1;  // frame feature index, written to the residual's link record (-1: none)
 };
 
 // Line and plane observations (seed 000, issue 13); residuals and their derivation in
@@ -71,6 +79,7 @@ struct LineObservation {
   bool has_companion = false;
   double weight = 1;
   std::string obs_id;  // trace id, e.g. "ml3@f42"
+  int64_t trace_line = -1;  // frame line index (link record; -1: none)
 };
 
 struct PlaneObservationResidual {
@@ -79,7 +88,8 @@ struct PlaneObservationResidual {
   Eigen::Vector3d n_obs = Eigen::Vector3d::UnitZ();
   double d_obs = 0;
   double weight = 1;
-  std::string obs_id;  // "pl2@f42"
+  std::string obs_id;  // "mpl2@f42"
+  int64_t trace_plane = -1;  // frame plane index (link record; -1: none)
 };
 
 // The structure part of a pose-only problem (empty: the point-only ORB-SLAM2 problem).
@@ -148,6 +158,7 @@ struct BAObservation {
   double u_right = -1;
   double inv_sigma2 = 1;
   double weight = 1;
+  int64_t trace_feature = -1;  // the keyframe's feature index (link record; -1: none)
 };
 
 struct LocalBAOptions {
@@ -175,12 +186,14 @@ struct BALineObservation {
   Eigen::Vector3d l = Eigen::Vector3d::Zero(), l_companion = Eigen::Vector3d::Zero();
   bool has_companion = false;
   double weight = 1;
+  int64_t trace_line = -1;  // the keyframe's frame line index (link record; -1: none)
 };
 struct BAPlaneObservation {
   int64_t kf_id = 0, plane_id = 0;
   Eigen::Vector3d n_obs = Eigen::Vector3d::UnitZ();
   double d_obs = 0;
   double weight = 1;
+  int64_t trace_plane = -1;  // the keyframe's frame plane index (link record; -1: none)
 };
 struct LocalBAStructure {
   std::vector<BALine> lines;

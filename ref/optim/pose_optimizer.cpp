@@ -201,9 +201,14 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
 
   if (log) {
     std::vector<double> residual_end;
+    const std::string link = LinkStage(call_id);
+    constexpr int kFeature = 0, kLineSample = 3, kPlane = 4;  // trace::EntityKind
     for (size_t i = 0; i < n; ++i) {
       double weighted = 0;
       const double c = EdgeChi2(K, result.T_cw, observations[i].X_w, edges[i], &residual_end, &weighted);
+      const Eigen::Vector3d& X = observations[i].X_w;
+      WriteResidualLink(*trace, link, kFeature, observations[i].obs_id, "feature", observations[i].trace_feature,
+                        {{"x", X.x()}, {"y", X.y()}, {"z", X.z()}});
       trace->Residual(call_id, edges[i].stereo ? "rgbd3" : "mono2", observations[i].obs_id,
                       residual_start[i], residual_end, observations[i].inv_sigma2,
                       observations[i].weight, HuberRho(weighted, edges[i].threshold), c,
@@ -213,6 +218,7 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
     for (size_t i = 0; i < n_lines; ++i) {
       double weighted = 0;
       const double c = LineChi2(K, result.T_cw, st.lines[i], st.options, &residual_end, &weighted);
+      WriteResidualLink(*trace, link, kLineSample, st.lines[i].obs_id, "line", st.lines[i].trace_line, {});
       trace->Residual(call_id, st.options.literal_line ? "line1" : "line4", st.lines[i].obs_id, line_start[i],
                       residual_end, 1.0 / (st.options.line_sigma_px * st.options.line_sigma_px), st.lines[i].weight,
                       HuberRho(weighted, line_th), c, result.line_inlier[i] != 0);
@@ -220,6 +226,7 @@ PoseOnlyResult OptimizePose(const Intrinsics& K, const SE3& T_cw_init,
     for (size_t i = 0; i < n_planes; ++i) {
       double weighted = 0;
       const double c = PlaneChi2(result.T_cw, st.planes[i], st.options, &residual_end, &weighted);
+      WriteResidualLink(*trace, link, kPlane, st.planes[i].obs_id, "plane", st.planes[i].trace_plane, {});
       trace->Residual(call_id, "plane3", st.planes[i].obs_id, plane_start[i], residual_end,
                       1.0 / (st.options.plane_dist_sigma_m * st.options.plane_dist_sigma_m), st.planes[i].weight,
                       HuberRho(weighted, plane_th), c, result.plane_inlier[i] != 0);

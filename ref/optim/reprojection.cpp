@@ -3,6 +3,8 @@
 #include <cmath>
 #include <limits>
 
+#include "trace/trace_writer.h"
+
 namespace dynref::optim {
 namespace {
 
@@ -192,6 +194,21 @@ double EdgeChi2(const Intrinsics& K, const SE3& T_cw, const Eigen::Vector3d& X_w
   for (int k = 0; k < dof; ++k) sq += e[k] * e[k];
   if (weighted_chi2 != nullptr) *weighted_chi2 = edge.info * sq;
   return edge.test_info * sq;
+}
+
+std::string LinkStage(const std::string& call_id) {
+  return call_id.substr(0, call_id.find('#')) + ".obs";
+}
+
+void WriteResidualLink(trace::TraceWriter& trace, const std::string& link_stage, int kind,
+                       const std::string& obs_id, const char* index_name, int64_t index,
+                       std::initializer_list<std::pair<const char*, double>> more) {
+  if (index < 0) return;
+  std::vector<trace::NamedValue> inputs;
+  inputs.reserve(1 + more.size());
+  inputs.push_back({index_name, static_cast<double>(index)});
+  for (const auto& [name, value] : more) inputs.push_back({name, value});
+  trace.ProbabilityUpdate(link_stage, static_cast<trace::EntityKind>(kind), obs_id, inputs, 0.0, 0.0);
 }
 
 template class PoseOnlyCost<2>;

@@ -6,6 +6,9 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <initializer_list>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "core/se3.h"
@@ -159,6 +162,13 @@ EdgeModel MakeEdgeModel(const Eigen::Vector2d& uv, double u_right, double inv_si
 // and the raw (unwhitened) residual to *raw when given (empty when invalid).
 double EdgeChi2(const Intrinsics& K, const SE3& T_cw, const Eigen::Vector3d& X_w,
                 const EdgeModel& edge, std::vector<double>* raw, double* weighted_chi2 = nullptr);
+
+// Link record of one residual (optim.h "Link records"): PROB of stage LinkStage(call_id) on the
+// observation id, p = 0; written only when `index` >= 0 (the caller named the frame item).
+std::string LinkStage(const std::string& call_id);  // "track.pose#2" -> "track.pose.obs"
+void WriteResidualLink(trace::TraceWriter& trace, const std::string& link_stage, int kind,
+                       const std::string& obs_id, const char* index_name, int64_t index,
+                       std::initializer_list<std::pair<const char*, double>> more);
 
 extern template class PoseOnlyCost<2>;
 extern template class PoseOnlyCost<3>;

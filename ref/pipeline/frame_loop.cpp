@@ -211,8 +211,11 @@ bool FrameLoop::Process(size_t k) {
     if (trace_.full_enabled()) {
       for (size_t i = 0; i < f.N(); ++i) {
         const cv::KeyPoint& kp = f.keys_un[i];
+        // map_point_id: the final inlier association; associated: the point the stages saw,
+        // kept through an exclusion or an outlier flag (trace schema 3, ref/trace/README.md).
         const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
-        trace_.Observation(static_cast<int64_t>(i), mp, kp.pt.x, kp.pt.y, f.depth[i] > 0 ? f.depth[i] : 0.0,
+        const int64_t associated = f.AssociatedMapPoint(static_cast<int>(i));
+        trace_.Observation(static_cast<int64_t>(i), mp, associated, kp.pt.x, kp.pt.y, f.depth[i] > 0 ? f.depth[i] : 0.0,
                            kp.octave, Fnv1a64(f.descriptors.ptr<uint8_t>(static_cast<int>(i)), f.descriptors.cols * f.descriptors.elemSize()));
       }
     }

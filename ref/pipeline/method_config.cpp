@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/resources.h"
 
 namespace dynref {
 namespace {
@@ -147,7 +148,7 @@ std::string MethodConfigPath(const std::string& method) {
   // Method names may use '-' (mgd-nd); config files use '_' (configs/mgd_nd.yaml).
   std::string file = method;
   std::replace(file.begin(), file.end(), '-', '_');
-  return std::string(DYNREF_SOURCE_DIR) + "/configs/" + file + ".yaml";
+  return ResourcePath("configs/" + file + ".yaml");  // core/resources.h: installed or source tree
 }
 
 MethodConfig LoadMethodConfig(const std::string& path) {

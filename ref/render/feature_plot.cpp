@@ -22,14 +22,17 @@ struct Point {
 }  // namespace
 
 Canvas RenderFeaturePlot(const trace::FeatureHistory& h) {
-  const int W = 900, H = 420, left = 70, right = 230, top = 40, bottom = 70;
+  const int W = h.follow ? 1100 : 900, H = 440, left = 70, right = 230, top = 40, bottom = 90;
   Canvas c(W, H, Rgb{255, 255, 255});
   const Rgb ink{0, 0, 0}, grid{225, 225, 225};
   // Points: updates of one frame are spread over [frame, frame + 0.8) in processing order.
   std::map<int64_t, int> per_frame;
-  // The backbone's structure records (stage "structure") are line / plane geometry with p = 0,
-  // not probabilities: not drawn.
-  const auto is_probability = [](const trace::FlatRecord& r) { return r.type == "prob" && r.stage != trace::kGeometryStage; };
+  // The backbone's structure records (stage "structure"), match records ("match.*") and records on
+  // a residual observation id ("mp5@f1") carry geometry / a match / residual inputs with p = 0, not
+  // probabilities: not drawn.
+  const auto is_probability = [](const trace::FlatRecord& r) {
+    return r.type == "prob" && !trace::IsCarrierStage(r.stage) && r.entity.find('@') == std::string::npos;
+  };
   for (const auto& r : h.rows)
     if (is_probability(r)) ++per_frame[r.frame];
   std::map<int64_t, int> seen;
@@ -78,7 +81,9 @@ Canvas RenderFeaturePlot(const trace::FeatureHistory& h) {
   c.Rect(left, top, left + pw, top + ph, ink);
   c.Text(left + pw / 2 - Canvas::TextWidth("frame") / 2, H - 26, "frame", ink);
   c.Text(8, top - 28, "p(dynamic)", ink);
-  const std::string title = h.id + ": probability updates across frames";
+  const std::string title =
+      h.follow ? h.id + " followed (" + std::to_string(h.chain.size()) + " linked entities): p(dynamic) updates"
+               : h.id + ": probability updates across frames";
   c.Text(left + pw / 2 - Canvas::TextWidth(title) / 2, 8, title, ink);
   // Series per entity kind (a map point's history joins its per-frame feature observations):
   // a grey line from the previous value, then the jump (before -> after) in stage colour.
@@ -95,11 +100,13 @@ Canvas RenderFeaturePlot(const trace::FeatureHistory& h) {
     c.Disc(X(p.x), Y(p.y), 4, ink);
     c.Disc(X(p.x), Y(p.y), 3, col);
   }
-  // Decisions under the axis.
+  // Decisions under the axis, one row per decision of the frame (up to three rows).
+  std::map<int64_t, int> decisions_in_frame;
   for (const auto& r : h.rows) {
     if (r.type != "decision") continue;
     const bool kept = r.fields.at(0).text == "1";
-    const int x = X(static_cast<double>(r.frame) + 0.4), y = top + ph + 30;
+    const int row = std::min(decisions_in_frame[r.frame]++, 2);
+    const int x = X(static_cast<double>(r.frame) + 0.4), y = top + ph + 30 + 11 * row;
     if (kept) {
       for (int k = 0; k < 6; ++k) c.Line(x - k, y + k - 3, x + k, y + k - 3, Rgb{0, 150, 60});
     } else {

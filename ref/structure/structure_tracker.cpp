@@ -202,7 +202,7 @@ optim::PoseStructure StructureTracker::BuildPoseStructure(const Frame& f, const 
       o.l_companion = s.lines[static_cast<size_t>(s.lines[i].companion)].l;
       o.has_companion = true;
     }
-    if (ids) o.obs_id = L->TraceId() + "@f" + std::to_string(f.index);
+    if (ids) o.obs_id = L->TraceId() + "@f" + std::to_string(f.index), o.trace_line = static_cast<int64_t>(i);
     ps.lines.push_back(o);
     line_index->push_back(static_cast<int>(i));
   }
@@ -212,7 +212,7 @@ optim::PoseStructure StructureTracker::BuildPoseStructure(const Frame& f, const 
     optim::PlaneObservationResidual o;
     o.n_w = P->n, o.d_w = P->d;
     o.n_obs = s.planes[j].n, o.d_obs = s.planes[j].d;
-    if (ids) o.obs_id = P->TraceId() + "@f" + std::to_string(f.index);
+    if (ids) o.obs_id = P->TraceId() + "@f" + std::to_string(f.index), o.trace_plane = static_cast<int64_t>(j);
     ps.planes.push_back(o);
     plane_index->push_back(static_cast<int>(j));
   }
@@ -307,7 +307,7 @@ void StructureTracker::FillLocalBA(const Map& map, const std::set<int64_t>& loca
       const FrameStructure& s = map.kf(k_id)->frame.structure;
       const FrameLine& F = s.lines[static_cast<size_t>(idx)];
       optim::BALineObservation o;
-      o.kf_id = k_id, o.line_id = id, o.l = F.l, o.weight = s.line_weight[static_cast<size_t>(idx)];
+      o.kf_id = k_id, o.line_id = id, o.l = F.l, o.weight = s.line_weight[static_cast<size_t>(idx)], o.trace_line = idx;
       if (o_.line_parallel_term && F.companion >= 0 && s.lines[static_cast<size_t>(F.companion)].l.head<2>().squaredNorm() > 0)
         o.l_companion = s.lines[static_cast<size_t>(F.companion)].l, o.has_companion = true;
       st->line_observations.push_back(o);
@@ -320,7 +320,7 @@ void StructureTracker::FillLocalBA(const Map& map, const std::set<int64_t>& loca
       if (!usable(k_id)) continue;
       const features::PlaneObservation& F = map.kf(k_id)->frame.structure.planes[static_cast<size_t>(idx)];
       optim::BAPlaneObservation o;
-      o.kf_id = k_id, o.plane_id = id, o.n_obs = F.n, o.d_obs = F.d;
+      o.kf_id = k_id, o.plane_id = id, o.n_obs = F.n, o.d_obs = F.d, o.trace_plane = idx;
       st->plane_observations.push_back(o);
     }
   }

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Independent writer of dynref trace schema 2 (ref/trace/README.md), in Python.
+"""Independent writer of dynref trace schema 3 (ref/trace/README.md), in Python.
 
 Converts a canonical JSONL dump (`dynref trace dump RUN --format jsonl`) -- or JSONL written by
 any other implementation in that form -- into a binary trace.dtr that `dynref diff` reads.
@@ -32,6 +32,8 @@ def _crc_table():
 
 
 _CRC_TABLE = _crc_table()
+
+SCHEMA_VERSION = 3
 
 KINDS = ["feature", "map_point", "keyframe", "line_sample", "plane", "instance_mask",
          "pixel_region", "frame"]
@@ -91,6 +93,8 @@ def write_record(w, r):
         w.u8(0x05)
         w.svarint(int(r["entity"].split(".", 1)[1]))
         w.svarint(int(f["map_point_id"]))
+        # schema 3; a schema 1/2 dump has none: the association is the final one there
+        w.svarint(int(f.get("associated_map_point_id", f["map_point_id"])))
         w.f64(num(f["u"])); w.f64(num(f["v"])); w.f64(num(f["depth_m"]))
         w.svarint(int(f["octave"]))
         w.u64(int(f["descriptor_hash"], 16))
@@ -147,7 +151,7 @@ def main():
                 groups.append((r["frame"], []))
             groups[-1][1].append(r)
     w = Writer()
-    w.buf += b"DYNTRACE" + struct.pack("<I", 2) + bytes([["off", "frames", "full"].index(a.level), 0, 0, 0])
+    w.buf += b"DYNTRACE" + struct.pack("<I", SCHEMA_VERSION) + bytes([["off", "frames", "full"].index(a.level), 0, 0, 0])
     w.varint(len(header))
     for k, v in header.items():
         w.str(k); w.str(v)

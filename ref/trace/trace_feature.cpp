@@ -27,7 +27,9 @@ FeatureHistory CollectFeatureHistory(TraceReader& reader, const std::string& id)
     std::set<std::string> related;  // feature observations of the map point in this frame
     if (is_map_point)
       for (const FlatRecord& f : recs)
-        if (f.type == "obs" && f.fields.at(0).text == mp_number) related.insert(f.entity);
+        if (f.type == "obs")
+          for (const FlatField& field : f.fields)
+            if (field.name == "associated_map_point_id" && field.text == mp_number) related.insert(f.entity);
     if (!structure_input.empty())
       for (const FlatRecord& f : recs)
         for (const FlatField& field : f.fields)

@@ -50,6 +50,7 @@ FlatRecord Flatten(const Record& r) {
       f.kind = EntityKindName(EntityKind::kFeature);
       f.entity = "f" + std::to_string(r.frame) + "." + std::to_string(r.feature_index);
       AddExact(f, "map_point_id", std::to_string(r.map_point_id));
+      AddExact(f, "associated_map_point_id", std::to_string(r.associated_map_point_id));
       AddFloat(f, "u", r.u);
       AddFloat(f, "v", r.v);
       AddFloat(f, "depth_m", r.depth_m);

@@ -289,6 +289,8 @@ std::vector<Record> TraceReader::ReadGroup(size_t gi) {
         r.type = RecordType::kObservation;
         r.feature_index = c.SVarint();
         r.map_point_id = c.SVarint();
+        // Schema 3 adds the association the stages saw; before it, the final one is all there is.
+        r.associated_map_point_id = schema_version_ >= 3 ? c.SVarint() : r.map_point_id;
         r.u = c.F64();
         r.v = c.F64();
         r.depth_m = c.F64();

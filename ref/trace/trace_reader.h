@@ -48,6 +48,8 @@ struct Record {
   std::string stage;                // kCount/kProbability/kDecision: stage; kResidual: call id
   int64_t value = 0;                // kCount
   int64_t feature_index = 0, map_point_id = -1, octave = 0;  // kObservation
+  // kObservation: map point when the stages saw the feature (schema 3; schema 1/2: map_point_id)
+  int64_t associated_map_point_id = -1;
   double u = 0, v = 0, depth_m = 0;                          // kObservation
   uint64_t descriptor_hash = 0;                              // kObservation
   EntityKind kind = EntityKind::kFeature;  // kProbability/kDecision
@@ -89,7 +91,7 @@ class TraceReader {
     uint64_t records;
     uint32_t crc = 0;  // schema 2: CRC-32C of the group's bytes
   };
-  // path: a trace file (schema 1 or 2; schema 2 checksums are verified: the header and footer
+  // path: a trace file (schema 1, 2 or 3; schema >= 2 checksums are verified: the header and footer
   // here, each frame block in ReadGroup). Throws TraceError naming the problem (missing, truncated, version, ...).
   explicit TraceReader(const std::string& path);
   ~TraceReader();

@@ -9,7 +9,7 @@ namespace dynref::trace {
 namespace {
 
 bool IsExactField(const std::string& type, const std::string& name) {
-  static const std::set<std::string> kExact = {"map_point_id", "octave", "descriptor_hash",
+  static const std::set<std::string> kExact = {"map_point_id", "associated_map_point_id", "octave", "descriptor_hash",
                                                "residual_kind", "inlier", "kept", "reason"};
   return kExact.count(name) > 0 || (type == "count" && name == "value");
 }
@@ -59,6 +59,21 @@ FlatRecord ParseJsonlRecord(const std::string& line, const std::string& file, in
       Bad(file, n, "field " + name + " must be a number (or \"nan\", \"inf\", \"-inf\")");
     }
     f.fields.push_back(std::move(x));
+  }
+  // A schema 1/2 dump has no associated_map_point_id: it equals map_point_id there (as the binary
+  // reader fills it), placed right after it as Flatten does.
+  if (f.type == "obs") {
+    bool has_associated = false;
+    size_t mp = f.fields.size();
+    for (size_t i = 0; i < f.fields.size(); ++i) {
+      if (f.fields[i].name == "associated_map_point_id") has_associated = true;
+      if (f.fields[i].name == "map_point_id") mp = i;
+    }
+    if (!has_associated && mp < f.fields.size()) {
+      FlatField a = f.fields[mp];
+      a.name = "associated_map_point_id";
+      f.fields.insert(f.fields.begin() + static_cast<long>(mp) + 1, std::move(a));
+    }
   }
   return f;
 }

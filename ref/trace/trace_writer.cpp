@@ -233,8 +233,9 @@ void TraceWriter::FrameCount(const std::string& stage, const std::string& name, 
   w.MaybeFlush();
 }
 
-void TraceWriter::Observation(int64_t feature_index, int64_t map_point_id, double u, double v,
-                              double depth_m, int octave, uint64_t descriptor_hash) {
+void TraceWriter::Observation(int64_t feature_index, int64_t map_point_id,
+                              int64_t associated_map_point_id, double u, double v, double depth_m,
+                              int octave, uint64_t descriptor_hash) {
   if (!full_enabled()) return;
   const std::unique_lock<std::mutex> guard = Guard();
   Impl& w = *impl_;
@@ -242,6 +243,7 @@ void TraceWriter::Observation(int64_t feature_index, int64_t map_point_id, doubl
   w.U8(format::kTagObs);
   w.SVarint(feature_index);
   w.SVarint(map_point_id);
+  w.SVarint(associated_map_point_id);  // schema 3
   w.F64(u);
   w.F64(v);
   w.F64(depth_m);

@@ -20,7 +20,7 @@
 
 namespace dynref::trace {
 
-constexpr int kSchemaVersion = 2;          // what the writer writes (2: CRC-32C per block)
+constexpr int kSchemaVersion = 3;          // what the writer writes (3: OBS associated_map_point_id)
 constexpr int kOldestReadableSchema = 1;   // readers still accept schema 1 (no checksums)
 
 enum class Level : uint8_t { kOff = 0, kFrames = 1, kFull = 2 };
@@ -88,8 +88,17 @@ class TraceWriter {
   void FrameCount(const std::string& stage, const std::string& name, int64_t value);
 
   // ---- full level only (no-ops below Level::kFull) ----
+  // map_point_id: the final inlier association (-1 none); associated_map_point_id: the map point
+  // the feature was associated with when the stages saw it, kept when an exclusion or the final
+  // optimisation (outlier) dropped it (-1: never associated; README "OBS").
+  void Observation(int64_t feature_index, int64_t map_point_id, int64_t associated_map_point_id,
+                   double u, double v, double depth_m /* 0 if none */, int octave,
+                   uint64_t descriptor_hash);
+  // Schema 2 form: associated_map_point_id = map_point_id.
   void Observation(int64_t feature_index, int64_t map_point_id /* -1 if unmatched */, double u,
-                   double v, double depth_m /* 0 if none */, int octave, uint64_t descriptor_hash);
+                   double v, double depth_m /* 0 if none */, int octave, uint64_t descriptor_hash) {
+    Observation(feature_index, map_point_id, map_point_id, u, v, depth_m, octave, descriptor_hash);
+  }
   void ProbabilityUpdate(const std::string& stage, EntityKind kind, const std::string& entity_id,
                          const std::vector<NamedValue>& inputs, double before, double after);
   // One residual of one optimiser call. call_id e.g. "track.pose#2" (per-frame counter) or

@@ -160,9 +160,13 @@ std::vector<trace::NamedValue> Mnn2TraceInputs(const features::DescriptorMatch& 
 
 namespace {
 
-// MNN2 over the keyframe's map-point features (rows) and the frame's free features (columns);
-// every match that survives the rotation check is traced (stage match.mnn2) at trace level full.
-int SearchByMnn2(const KeyFrame& kf, Frame& cur, const Map& map, double ratio, bool check_orientation) {
+// MNN2 over the keyframe's map-point features (rows) and the frame's free features (columns).
+// At trace level full every row the rule looked at is traced under `stage` (match.mnn2.reference
+// or match.mnn2.relocalisation) on its nearest frame feature: the nearest and second-nearest
+// distances, the mutual check's reverse nearest and the outcome (accepted, or the first test that
+// rejected it: tau, ratio, not mutual, rotation check; ref/trace/README.md).
+int SearchByMnn2(const KeyFrame& kf, Frame& cur, const Map& map, double ratio, bool check_orientation,
+                 const std::string& stage) {
   const Frame& kff = kf.frame;
   std::vector<int> rows, cols;
   for (size_t i = 0; i < kf.map_point_ids.size(); ++i)
@@ -176,22 +180,33 @@ int SearchByMnn2(const KeyFrame& kf, Frame& cur, const Map& map, double ratio, b
   std::vector<std::vector<int>> hist(kHistoLength);
   const bool orient = check_orientation && cur.match_profile.oriented;
   int n = 0;
-  const std::vector<features::DescriptorMatch> matches = features::SelectMnn2(d, tau, o);
-  for (const features::DescriptorMatch& m : matches) {
-    const int i = rows[static_cast<size_t>(m.i)], j = cols[static_cast<size_t>(m.j)];
+  const std::vector<features::Mnn2Candidate> candidates = features::SelectMnn2Candidates(d, tau, o);
+  for (const features::Mnn2Candidate& c : candidates) {
+    if (c.outcome != features::Mnn2Outcome::kAccepted) continue;
+    const int i = rows[static_cast<size_t>(c.match.i)], j = cols[static_cast<size_t>(c.match.j)];
     cur.map_point_ids[j] = kf.map_point_ids[i];
     ++n;
     if (orient) hist[features::RotationBin(kff.keys_un[i].angle, cur.keys_un[j].angle)].push_back(j);
   }
   if (orient) n -= ApplyRotationConsistency(hist, cur);
   if (cur.trace == nullptr || !cur.trace->full_enabled()) return n;
-  for (const features::DescriptorMatch& m : matches) {
-    const int i = rows[static_cast<size_t>(m.i)], j = cols[static_cast<size_t>(m.j)];
-    if (cur.map_point_ids[j] != kf.map_point_ids[i]) continue;  // dropped by the rotation check
-    cur.trace->ProbabilityUpdate("match.mnn2", trace::EntityKind::kFeature, cur.FeatureId(j),
-                                 Mnn2TraceInputs(m, tau, {{"kf", double(kf.id)}, {"kf_feature", double(i)},
-                                                                    {"map_point", double(kf.map_point_ids[i])}}),
-                                 0.0, 0.0);
+  for (const features::Mnn2Candidate& c : candidates) {
+    const int i = rows[static_cast<size_t>(c.match.i)], j = cols[static_cast<size_t>(c.match.j)];
+    double outcome = static_cast<double>(c.outcome);
+    if (c.outcome == features::Mnn2Outcome::kAccepted && cur.map_point_ids[j] != kf.map_point_ids[i])
+      outcome = kMnn2OutcomeRotation;  // dropped by the rotation check
+    std::vector<trace::NamedValue> in =
+        Mnn2TraceInputs(c.match, tau, {{"kf", double(kf.id)}, {"kf_feature", double(i)},
+                                       {"map_point", double(kf.map_point_ids[i])}});
+    in.push_back({"rho", ratio});
+    in.push_back({"second_feature", c.second_j < 0 ? -1.0 : double(cols[static_cast<size_t>(c.second_j)])});
+    in.push_back({"reverse_kf_feature", double(rows[static_cast<size_t>(c.reverse_i)])});
+    in.push_back({"reverse_distance", c.reverse_distance});
+    in.push_back({"rotation_check", orient ? 1.0 : 0.0});
+    in.push_back({"kf_angle", orient ? double(kff.keys_un[i].angle) : 0.0});
+    in.push_back({"angle", orient ? double(cur.keys_un[j].angle) : 0.0});
+    in.push_back({"outcome", outcome});
+    cur.trace->ProbabilityUpdate(stage, trace::EntityKind::kFeature, cur.FeatureId(j), in, 0.0, 0.0);
   }
   return n;
 }
@@ -199,8 +214,8 @@ int SearchByMnn2(const KeyFrame& kf, Frame& cur, const Map& map, double ratio, b
 }  // namespace
 
 int SearchByBruteForce(const KeyFrame& kf, Frame& cur, const Map& map, float nn_ratio, bool check_orientation,
-                       const features::BackboneMnn2& mnn2) {
-  if (mnn2.enabled) return SearchByMnn2(kf, cur, map, mnn2.ratio, check_orientation);
+                       const features::BackboneMnn2& mnn2, const std::string& mnn2_stage) {
+  if (mnn2.enabled) return SearchByMnn2(kf, cur, map, mnn2.ratio, check_orientation, mnn2_stage);
   std::vector<std::vector<int>> hist(kHistoLength);
   const Frame& kff = kf.frame;
   const bool orient = check_orientation && cur.match_profile.oriented;

@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "features/mnn2.h"
@@ -42,12 +43,20 @@ int SearchByProjectionLocal(Frame& cur, const std::vector<ProjectedPoint>& point
 // Replacement for ORBmatcher::SearchByBoW(KeyFrame*, Frame&): brute force, best distance <=
 // TH_LOW, best < ratio * second best, first-come one-to-one, rotation histogram. Writes the
 // matched map point ids into cur.map_point_ids; returns the number of matches.
-// With mnn2.enabled: seed 004's MNN2 instead (features/mnn2.h BackboneMnn2), each match traced as
-// PROB stage match.mnn2 on the frame feature (inputs kf, kf_feature, map_point, distance, second,
-// ratio, tau; p = 0) at trace level full. Distances and gates in the frame's match_profile units;
-// the rotation check only for oriented extractors.
+// With mnn2.enabled: seed 004's MNN2 instead (features/mnn2.h BackboneMnn2). At trace level full
+// every row the rule looked at is traced as PROB `mnn2_stage` (match.mnn2.reference from
+// reference-keyframe tracking, match.mnn2.relocalisation from relocalisation) on its nearest
+// frame feature, p = 0, with the outcome (kMnn2Outcome*; ref/trace/README.md). Distances and
+// gates in the frame's match_profile units; the rotation check only for oriented extractors.
 int SearchByBruteForce(const KeyFrame& kf, Frame& cur, const Map& map, float nn_ratio,
-                       bool check_orientation, const features::BackboneMnn2& mnn2 = {});
+                       bool check_orientation, const features::BackboneMnn2& mnn2 = {},
+                       const std::string& mnn2_stage = "match.mnn2.reference");
+
+// Input `outcome` of the MNN2 trace records: features::Mnn2Outcome (0 accepted, 1 tau, 2 ratio,
+// 3 not mutual), then the tests after the descriptor rule: 4 the rotation check (tracking),
+// 5 the epipolar / epipole test (triangulation search).
+constexpr double kMnn2OutcomeRotation = 4;
+constexpr double kMnn2OutcomeGeometry = 5;
 
 // Trace inputs of one MNN2 match: `ids` first, then distance, second, ratio = distance / second
 // (0 when second is 0) and tau (the match.mnn2 records, ref/trace/README.md).

@@ -128,7 +128,7 @@ bool Tracker::Relocalise(Frame& f) {
   for (int64_t kf_id : candidates) {
     const KeyFrame& kf = *map_.kf(kf_id);
     std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
-    const int n = SearchByBruteForce(kf, f, map_, 0.75f, true, options_.mnn2);
+    const int n = SearchByBruteForce(kf, f, map_, 0.75f, true, options_.mnn2, "match.mnn2.relocalisation");
     if (n < 15) continue;
     std::vector<int> idx;
     std::vector<Eigen::Vector3d> X;

@@ -53,6 +53,13 @@ Tracker::Tracker(const Camera& camera, Map& map, const TrackerOptions& options, 
   options_.Check();
 }
 
+void Tracker::TraceKeyFrame(const KeyFrame& k) {
+  // The keyframe -> frame link local-BA residuals "mp<N>@kf<k>" need (tracking/README.md "Trace").
+  if (trace_.full_enabled())
+    trace_.ProbabilityUpdate("track.keyframe", trace::EntityKind::kKeyFrame, "kf" + std::to_string(k.id),
+                             {{"frame", static_cast<double>(k.frame_index)}}, 0.0, 0.0);
+}
+
 int Tracker::OptimizePose(Frame& f) {
   if (current_frame_ != f.index) {
     current_frame_ = f.index;
@@ -76,7 +83,10 @@ int Tracker::OptimizePose(Frame& f) {
     o.u_right = f.u_right[i];
     o.inv_sigma2 = f.pyramid.inv_sigma2[f.keys_un[i].octave];
     o.weight = f.Weight(static_cast<int>(i));
-    if (trace_.full_enabled()) o.obs_id = "mp" + std::to_string(id) + "@f" + std::to_string(f.index);
+    if (trace_.full_enabled()) {
+      o.obs_id = "mp" + std::to_string(id) + "@f" + std::to_string(f.index);
+      o.trace_feature = static_cast<int64_t>(i);  // link record (optim.h): the verifier's way to the OBS
+    }
     obs.push_back(std::move(o));
     idx.push_back(static_cast<int>(i));
   }
@@ -163,7 +173,7 @@ bool Tracker::TrackReferenceKeyFrame(Frame& f) {
   const KeyFrame* ref = map_.kf(reference_kf_);
   if (ref == nullptr) return false;
   std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
-  int n = SearchByBruteForce(*ref, f, map_, 0.7f, true, options_.mnn2);
+  int n = SearchByBruteForce(*ref, f, map_, 0.7f, true, options_.mnn2, "match.mnn2.reference");
   trace_.FrameCount("track.reference_kf", "matches", n);
   if (structure_ != nullptr && n < 15) {
     f.T_cw = last_.T_cw;  // association needs a pose; the same start as below
@@ -352,10 +362,11 @@ KeyFrame* Tracker::CreateNewKeyFrame(Frame& f) {
   // Outlier associations are dropped before the keyframe is made (ORB-SLAM2 keeps them in the
   // keyframe until local mapping; dropping them is the cleaner equivalent).
   for (size_t i = 0; i < f.N(); ++i)
-    if (f.outlier[i]) f.map_point_ids[i] = -1;
+    if (f.outlier[i]) f.DropAssociation(static_cast<int>(i));  // OBS keeps it as associated
   // No parent here: ORB-SLAM2 sets the spanning-tree parent in KeyFrame::UpdateConnections (its
   // first connection: the keyframe sharing most points), run by local mapping.
   KeyFrame* k = map_.AddKeyFrame(KeyFrameFromFrame(f));
+  TraceKeyFrame(*k);
   reference_kf_ = k->id;
   // New map points from depth, closest first, until 100 beyond the close threshold (ORB-SLAM2
   // Tracking::CreateNewKeyFrame).
@@ -404,6 +415,7 @@ KeyFrame* Tracker::TryInitialise(Frame& f) {
   f.has_pose = true;
   std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
   KeyFrame* k = map_.AddKeyFrame(KeyFrameFromFrame(f));
+  TraceKeyFrame(*k);
   for (size_t i = 0; i < f.N(); ++i) {
     if (!(f.depth[i] > 0) || f.IsExcluded(static_cast<int>(i))) continue;
     MapPoint* p = map_.NewMapPoint(f.UnprojectWorld(static_cast<int>(i)), k->id, f.index);

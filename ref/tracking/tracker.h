@@ -78,6 +78,7 @@ class Tracker {
 
  private:
   int OptimizePose(Frame& f);                     // returns inliers (map points with obs)
+  void TraceKeyFrame(const KeyFrame& k);          // PROB "track.keyframe" kf<id>: input frame
   int DiscardOutliers(Frame& f);                  // returns matches with map observations
   bool TrackWithMotionModel(Frame& f);
   bool TrackReferenceKeyFrame(Frame& f);

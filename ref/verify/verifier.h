@@ -24,7 +24,7 @@ class Verifier {
 using VerifierList = std::vector<std::unique_ptr<Verifier>>;
 
 // Each family adds its verifiers (one file per family, verify_<family>.cpp).
-void AddBackboneVerifiers(VerifierList& out);   // residuals, exclusions, MNN2 matches, structure
+void AddBackboneVerifiers(VerifierList& out);   // residuals and their links, keyframes, structure
 void AddMgdVerifiers(VerifierList& out);
 void AddBlurVerifiers(VerifierList& out);
 void AddEpiVerifiers(VerifierList& out);

@@ -26,7 +26,7 @@ TEST_CASE("an unknown command is named and the valid ones listed") {
   CHECK(top.output.find("A subcommand is required") == std::string::npos);
   const auto nested = RunDynref("trace frob run.dtr");
   CHECK(nested.exit_code == 2);
-  CHECK(nested.output.find("unknown command 'frob' for 'dynref trace' (valid: dump, feature, bench") !=
+  CHECK(nested.output.find("unknown command 'frob' for 'dynref trace' (valid: dump, feature, verify, bench") !=
         std::string::npos);
   // No command at all still says one is required; --help still exits 0.
   const auto none = RunDynref("");

@@ -1,8 +1,10 @@
 #include <catch2/catch.hpp>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "core/error.h"
+#include "dense/pcd_io.h"
 #include "dense/ply_writer.h"
 #include "test_support.h"
 
@@ -55,4 +57,93 @@ TEST_CASE("dense ply: empty cloud and malformed input") {
   std::ofstream(dir + "/bad.ply") << "plx\n";
   CHECK_THROWS_AS(ReadPly(dir + "/bad.ply"), dynref::InputError);
   CHECK_THROWS_AS(ReadPly(dir + "/missing.ply"), dynref::InputError);
+}
+
+namespace {
+
+std::string Bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// `text` with the first `from` replaced by `to`, written to path.
+std::string Patched(const std::string& text, const std::string& from, const std::string& to, const std::string& path) {
+  std::string s = text;
+  const size_t at = s.find(from);
+  REQUIRE(at != std::string::npos);
+  s.replace(at, from.size(), to);
+  std::ofstream(path, std::ios::binary) << s;
+  return path;
+}
+
+}  // namespace
+
+TEST_CASE("dense ply: counts, undeclared trailing data and non-finite points are errors naming file and line (issue 37)") {
+  const std::string dir = dynref::test::ScratchDir("dense_ply_strict");
+  PointCloud many(150);
+  for (size_t i = 0; i < many.size(); ++i) many[i].x = float(i);
+  WritePly(dir + "/many.ply", many);
+  const std::string bin = Bytes(dir + "/many.ply");
+  // The header says 100, the file holds 150: no longer reads 100 silently.
+  CHECK_THROWS_WITH(ReadPly(Patched(bin, "element vertex 150", "element vertex 100", dir + "/trail.ply")),
+                    Catch::Contains("trail.ply: 750 bytes of data after the 100 vertices (line 3)"));
+  CHECK_THROWS_WITH(ReadPly(Patched(bin, "element vertex 150", "element vertex 200", dir + "/short.ply")),
+                    Catch::Contains("short.ply: truncated"));
+  // A negative or non-decimal count: file:line, not a wrapped-around size (bad_alloc / assertion).
+  CHECK_THROWS_WITH(ReadPly(Patched(bin, "element vertex 150", "element vertex -5", dir + "/neg.ply")),
+                    Catch::Contains("neg.ply:3: vertex count '-5' is not a whole number >= 0"));
+  CHECK_THROWS_WITH(ReadPly(Patched(bin, "element vertex 150", "element vertex 1e9", dir + "/exp.ply")),
+                    Catch::Contains("exp.ply:3:"));
+  CHECK_THROWS_WITH(ReadPly(Patched(bin, "element vertex 150", "element vertex 99999999999999", dir + "/huge.ply")),
+                    Catch::Contains("huge.ply: truncated"));
+  // NaN: binary names the vertex, ASCII the line (header: 10 lines, vertex 1 on line 12).
+  PointCloud bad = Sample();
+  bad[1].y = std::numeric_limits<float>::quiet_NaN();
+  WritePly(dir + "/nan.ply", bad);
+  CHECK_THROWS_WITH(ReadPly(dir + "/nan.ply"), Catch::Contains("nan.ply: vertex 1 has a non-finite coordinate"));
+  WritePly(dir + "/nan_ascii.ply", bad, PlyFormat::kAscii);
+  CHECK_THROWS_WITH(ReadPly(dir + "/nan_ascii.ply"), Catch::Contains("nan_ascii.ply:12: vertex 1 has a non-finite coordinate"));
+  bad[1].y = std::numeric_limits<float>::infinity();
+  WritePly(dir + "/inf.ply", bad);
+  CHECK_THROWS_WITH(ReadPly(dir + "/inf.ply"), Catch::Contains("non-finite"));
+  // ASCII: a line beyond the declared count, a short file, a bad colour.
+  WritePly(dir + "/a.ply", Sample(), PlyFormat::kAscii);
+  const std::string ascii = Bytes(dir + "/a.ply");
+  CHECK_THROWS_WITH(ReadPly(Patched(ascii, "element vertex 3", "element vertex 2", dir + "/a_trail.ply")),
+                    Catch::Contains("a_trail.ply:13: data after the 2 vertices (line 3)"));
+  CHECK_THROWS_WITH(ReadPly(Patched(ascii, "element vertex 3", "element vertex 4", dir + "/a_short.ply")),
+                    Catch::Contains("a_short.ply"));
+  CHECK_THROWS_WITH(ReadPly(Patched(ascii, " 255 1 2\n", " 256 1 2\n", dir + "/a_colour.ply")),
+                    Catch::Contains("a_colour.ply:11: colour '256'"));
+  CHECK_THROWS_WITH(ReadPly(Patched(ascii, "element vertex 3", "element vertex -5", dir + "/a_neg.ply")),
+                    Catch::Contains("a_neg.ply:3:"));
+  // What WritePly writes still reads back (blank trailing lines in ASCII are fine).
+  CheckSame(ReadPly(Patched(ascii, "end_header\n", "end_header\n", dir + "/a_same.ply")), Sample());
+  std::ofstream(dir + "/a_same.ply", std::ios::app) << "\n\n";
+  CheckSame(ReadPly(dir + "/a_same.ply"), Sample());
+  CHECK(ReadPly(dir + "/many.ply").size() == 150);
+}
+
+TEST_CASE("dense pcd and mesh: counts and undeclared trailing data are errors (issue 37)") {
+  const std::string dir = dynref::test::ScratchDir("dense_pcd_strict");
+  WritePcd(dir + "/c.pcd", Sample());
+  const std::string pcd = Bytes(dir + "/c.pcd");
+  CHECK(ReadPcd(dir + "/c.pcd").size() == 3);
+  CHECK_THROWS_WITH(ReadPcd(Patched(pcd, "POINTS 3", "POINTS 2", dir + "/trail.pcd")),
+                    Catch::Contains("trail.pcd: 16 bytes of data after the 2 points"));
+  CHECK_THROWS_WITH(ReadPcd(Patched(pcd, "POINTS 3", "POINTS -5", dir + "/neg.pcd")),
+                    Catch::Contains("neg.pcd:10: POINTS '-5'"));
+  CHECK_THROWS_WITH(ReadPcd(Patched(pcd, "POINTS 3", "POINTS 4", dir + "/short.pcd")), Catch::Contains("truncated"));
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  m.faces = {{0, 1, 2}};
+  WritePlyMesh(dir + "/m.ply", m);
+  const std::string mesh = Bytes(dir + "/m.ply");
+  CHECK(ReadPlyMesh(dir + "/m.ply").faces.size() == 1);
+  CHECK_THROWS_WITH(ReadPlyMesh(Patched(mesh, "element vertex 3", "element vertex 2", dir + "/m_trail.ply")),
+                    Catch::Contains("m_trail.ply: 12 bytes of data after the 2 vertices and 1 faces"));
+  CHECK_THROWS_WITH(ReadPlyMesh(Patched(mesh, "element face 1", "element face -5", dir + "/m_neg.ply")),
+                    Catch::Contains("m_neg.ply:7: face count '-5'"));
 }

@@ -186,6 +186,26 @@ TEST_CASE("sources: HOG people detector finds the person on person.jpg and none 
   CHECK(hog->Detect(cv::imread(SourcePath("tests/data/darknet/horses.jpg")), "horses").instances.empty());
 }
 
+TEST_CASE("sources: HOG on images smaller than its 64x128 window gives no detections (issue 37)") {
+  // OpenCV 4.6's detectMultiScale always evaluates its first pyramid level: on an image smaller
+  // than the window it corrupted the heap (16x16, 32x32, 64x48: SIGSEGV / glibc abort, varying)
+  // or asserted (48x64). Under ASan / valgrind the out-of-bounds accesses are reported.
+  auto hog = MakeDetectionSource("hog", {});
+  for (const cv::Size size : {cv::Size(1, 1), cv::Size(16, 16), cv::Size(32, 32), cv::Size(48, 64), cv::Size(64, 48),
+                              cv::Size(96, 72), cv::Size(63, 128), cv::Size(64, 127), cv::Size(200, 100)}) {
+    INFO(size.width << "x" << size.height);
+    cv::Mat img(size, CV_8UC3);
+    for (int y = 0; y < img.rows; ++y)
+      for (int x = 0; x < img.cols; ++x) img.at<cv::Vec3b>(y, x) = cv::Vec3b(uint8_t(x * 7), uint8_t(y * 13), uint8_t(x * y));
+    FrameDetections f;
+    REQUIRE_NOTHROW(f = hog->Detect(img, "small"));
+    CHECK(f.instances.empty());
+  }
+  // The window itself (64x128) is searched as before.
+  cv::Mat window(128, 64, CV_8UC3, cv::Scalar(90, 90, 90));
+  CHECK_NOTHROW(hog->Detect(window, "window"));
+}
+
 TEST_CASE("mask format: a class_id outside COCO is rejected with file and line (issue 20 item 11)") {
   const std::string dir = test::ScratchDir("mask_class_id");
   {

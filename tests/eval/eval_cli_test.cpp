@@ -123,3 +123,24 @@ TEST_CASE("eval cli: a clip shorter than delta says so and still prints ATE (iss
   CHECK(r.output.find("are delta = 1 s apart (the estimate has 5 poses over 0.125 s)") != std::string::npos);
   CHECK(r.output.find("do the stamps overlap") == std::string::npos);  // the wrong hint is gone
 }
+
+TEST_CASE("eval cli: a frame delta must be a whole number, a seconds delta must not pair a pose with itself (issue 37)") {
+  const std::string d = dynref::test::ScratchDir("eval_cli_delta_range");
+  const std::string gt = WriteText(d + "/gt.txt", kTraj);  // 5 poses, 31.25 ms apart
+  const std::string base = "eval --gt " + Quote(gt) + " --est " + Quote(gt);
+  // 0.5 frames paired every pose with itself and reported "delta 0.5 frames".
+  ExpectBadInput(base + " --delta 0.5 --delta-unit f", "--delta: with --delta-unit f must be a whole number of frames >= 1, got 0.5");
+  ExpectBadInput(base + " --delta 1.5 --delta-unit f", "whole number of frames");
+  ExpectBadInput(base + " --delta 0 --delta-unit f", "--delta: must be a finite number > 0");
+  ExpectBadInput(base + " --delta -2 --delta-unit f", "--delta: must be a finite number > 0");
+  // 10 ms is less than half the 31.25 ms interval: every pose's partner would be itself.
+  ExpectBadInput(base + " --delta 0.01", "--delta: delta = 0.01 s pairs estimate pose 0 (stamp 1) with itself");
+  ExpectBadInput(base + " --delta 0.01 --rpe-mode interp", "with itself");
+  ExpectBadInput(base + " --delta 0 --delta-unit s", "--delta: must be a finite number > 0");
+  // Whole frames and a seconds delta of one interval are fine.
+  const auto ok = RunDynref(base + " --delta 1 --delta-unit f");
+  INFO(ok.output);
+  CHECK(ok.exit_code == 0);
+  CHECK(ok.output.find("delta 1 frames") != std::string::npos);
+  CHECK(RunDynref(base + " --delta 0.03125").exit_code == 0);
+}

@@ -2,6 +2,7 @@
 // ghost figures on hand-built scenes where every number is known; the CLI on a synthetic sequence.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <fstream>
 
 #include "core/rng.h"
 #include "dense/ply_writer.h"
@@ -116,4 +117,37 @@ TEST_CASE("map-eval CLI: the synthetic truth scores itself perfectly, a mover cl
   CHECK(movers.output.find("ghosts         0 points") == std::string::npos);
   test::ExpectBadInput("map-eval " + dir + "/seq/gt/static_observed.ply --gt " + dir, "static_scene.ply: missing");
   test::ExpectBadInput("map-eval " + dir + "/seq/groundtruth.txt --gt " + dir + "/seq", ".ply or .pcd");
+}
+
+TEST_CASE("map-eval CLI: an empty map, a NaN point, undeclared vertices and a negative count exit 2 naming the file (issue 37)") {
+  const std::string dir = test::ScratchDir("map_eval_cli_bad_maps");
+  REQUIRE(test::RunDynref("synth --preset walking_xyz --frames 3 --seed 1 --out " + dir + "/seq").exit_code == 0);
+  const std::string tail = " --gt " + dir + "/seq --trajectory " + dir + "/seq/groundtruth.txt";
+  // 0 vertices: was "accuracy 0.0000".
+  dense::WritePly(dir + "/empty.ply", {});
+  test::ExpectBadInput("map-eval " + dir + "/empty.ply" + tail, "empty.ply: the map has 0 points");
+  // A NaN point: was "mean nan".
+  dense::PointCloud cloud(120);
+  for (size_t i = 0; i < cloud.size(); ++i) cloud[i].x = 0.01f * float(i);
+  dense::PointCloud with_nan = cloud;
+  with_nan[7].z = std::nanf("");
+  dense::WritePly(dir + "/nan.ply", with_nan);
+  test::ExpectBadInput("map-eval " + dir + "/nan.ply" + tail, "nan.ply: vertex 7 has a non-finite coordinate");
+  dense::WritePly(dir + "/nan_ascii.ply", with_nan, dense::PlyFormat::kAscii);
+  test::ExpectBadInput("map-eval " + dir + "/nan_ascii.ply" + tail, "nan_ascii.ply:18: vertex 7 has a non-finite");
+  // The header says 100, the file holds 120: was read as 100 points.
+  dense::WritePly(dir + "/ok.ply", cloud);
+  std::string bytes = test::ReadFileBytes(dir + "/ok.ply");
+  const auto patch = [&](const std::string& to, const std::string& name) {
+    std::string s = bytes;
+    s.replace(s.find("element vertex 120"), 18, to);
+    std::ofstream(dir + "/" + name, std::ios::binary) << s;
+    return dir + "/" + name;
+  };
+  test::ExpectBadInput("map-eval " + patch("element vertex 100", "trail.ply") + tail,
+                       "trail.ply: 300 bytes of data after the 100 vertices (line 3)");
+  // element vertex -5: was a raw assertion.
+  test::ExpectBadInput("map-eval " + patch("element vertex -5", "neg.ply") + tail, "neg.ply:3: vertex count '-5'");
+  // The same map with the right count is evaluated.
+  CHECK(test::RunDynref("map-eval " + dir + "/ok.ply" + tail).exit_code == 0);
 }

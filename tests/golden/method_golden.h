@@ -1,6 +1,7 @@
 // The golden run of a method (issues 6, 14, 15, 16): synthesise walking_xyz (30 frames, seed 1,
 // yolo-like detections unless told otherwise), run the method with golden/<name>/<config> at
-// trace level full and diff the trace against golden/<name>/trace.dtr with `dynref diff` (exact: no tolerance).
+// trace level full and diff the trace against golden/<name>/trace.dtr with `dynref diff` (exact: no tolerance);
+// then `dynref trace verify` must recompute every record of the golden (issue 32).
 // Regenerate (and say in the commit why the new numbers are right):
 //   DYNREF_UPDATE_GOLDEN=1 ctest -R 'golden_<method>:'
 #pragma once
@@ -56,6 +57,10 @@ inline void CheckMethodGolden(const std::string& method, const std::string& gold
   const CommandResult d = RunDynref("diff " + golden + " " + ro.out_dir);
   INFO(d.output);
   CHECK(d.exit_code == 0);
+  // Issue 32: the golden proves itself: every PROB, DECISION and RESIDUAL record recomputed.
+  const CommandResult v = RunDynref("trace verify " + golden);
+  INFO(v.output);
+  CHECK(v.exit_code == 0);
 }
 
 }  // namespace dynref::test

@@ -103,3 +103,28 @@ TEST_CASE("frame: depth_edge_rel drops the depth of keypoints on depth discontin
   f.FinishFeatures(cam, 0.03);
   CHECK(f.depth[3] < 0);  // 4 % > 3 %
 }
+
+TEST_CASE("frame: the association an exclusion or DropAssociation removes is remembered (trace OBS)") {
+  const Camera cam = Cam();
+  Frame f = MakeFrame(cam);
+  for (int i = 0; i < 20; ++i) CHECK(f.AssociatedMapPoint(i) == -1);  // never associated
+  f.map_point_ids[2] = 40;
+  f.map_point_ids[3] = 41;
+  f.map_point_ids[4] = 42;
+  f.Exclude(2, "test.stage", "dynamic");
+  CHECK(f.map_point_ids[2] == -1);       // Exclude still removes the association (issue 5 contract)
+  CHECK(f.AssociatedMapPoint(2) == 40);  // ... but the trace can name the point the stage saw
+  f.DropAssociation(3);                  // e.g. a final-optimisation outlier
+  CHECK(f.map_point_ids[3] == -1);
+  CHECK(f.AssociatedMapPoint(3) == 41);
+  f.outlier[4] = 1;                      // flagged, still associated
+  CHECK(f.AssociatedMapPoint(4) == 42);
+  f.DropAssociation(5);                  // nothing to drop
+  CHECK(f.AssociatedMapPoint(5) == -1);
+  f.Exclude(6, "test.stage", "before tracking");  // excluded before any association
+  CHECK(f.AssociatedMapPoint(6) == -1);
+  f.map_point_ids[3] = 77;               // re-associated: the current one wins
+  CHECK(f.AssociatedMapPoint(3) == 77);
+  f.FinishFeatures(cam);                 // a new frame forgets everything
+  CHECK(f.AssociatedMapPoint(2) == -1);
+}

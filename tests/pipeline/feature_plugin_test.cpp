@@ -57,7 +57,7 @@ TEST_CASE("feature plugin: SIFT + MNN2 tracks a static room within 1 cm, twice t
   }
   CHECK(dump[0] == dump[1]);
   // Keyframe-to-frame and triangulation matches with their distances and ratio.
-  CHECK(dump[0].find("match.mnn2,") != std::string::npos);
+  CHECK(dump[0].find("match.mnn2.reference,") != std::string::npos);
   CHECK(dump[0].find("match.mnn2.triangulation,") != std::string::npos);
   CHECK(dump[0].find("in.ratio") != std::string::npos);
 }

@@ -107,11 +107,12 @@ TEST_CASE("truncated trace and other schema version exit 2 naming the problem") 
     std::ofstream f(dir + "/cut.dtr", std::ios::binary);
     f.write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 2));
   }
-  std::string v3 = bytes;
-  v3[8] = 3;  // a schema this build does not know yet
+  std::string next = bytes;
+  next[8] = static_cast<char>(kSchemaVersion + 1);  // a schema this build does not know yet
+  const std::string next_name = "schema version " + std::to_string(kSchemaVersion + 1);
   {
-    std::ofstream f(dir + "/v3.dtr", std::ios::binary);
-    f.write(v3.data(), static_cast<std::streamsize>(v3.size()));
+    std::ofstream f(dir + "/next.dtr", std::ios::binary);
+    f.write(next.data(), static_cast<std::streamsize>(next.size()));
   }
   try {
     TraceReader r(dir + "/cut.dtr");
@@ -120,17 +121,17 @@ TEST_CASE("truncated trace and other schema version exit 2 naming the problem") 
     CHECK(e.problem() == TraceProblem::kTruncated);
   }
   try {
-    TraceReader r(dir + "/v3.dtr");
-    FAIL("schema version 3 accepted");
+    TraceReader r(dir + "/next.dtr");
+    FAIL(next_name + " accepted");
   } catch (const TraceError& e) {
     CHECK(e.problem() == TraceProblem::kSchemaVersion);
   }
   const auto cut = RunDynref("diff '" + a + "' '" + dir + "/cut.dtr'");
   CHECK(cut.exit_code == 2);
   CHECK(cut.output.find("cut.dtr: truncated") != std::string::npos);
-  const auto ver = RunDynref("diff '" + dir + "/v3.dtr' '" + a + "'");
+  const auto ver = RunDynref("diff '" + dir + "/next.dtr' '" + a + "'");
   CHECK(ver.exit_code == 2);
-  CHECK(ver.output.find("schema version 3") != std::string::npos);
+  CHECK(ver.output.find(next_name) != std::string::npos);
   CHECK(RunDynref("diff '" + a + "' '" + dir + "/nope.dtr'").exit_code == 2);
   CHECK(RunDynref("trace dump '" + dir + "/cut.dtr'").exit_code == 2);
 }

@@ -34,3 +34,23 @@ TEST_CASE("an independent Python writer following the README produces traces dyn
   CHECK(r.exit_code == 0);
   CHECK(r.output.find("MATCH") != std::string::npos);
 }
+
+TEST_CASE("the Python writer writes schema 3 from a schema 2 dump (associated = map_point_id)") {
+  if (std::system("python3 --version > /dev/null 2>&1") != 0)
+    FAIL("python3 not found: install it (scripts/install-deps.sh) to run this test");
+  const std::string dir = dynref::test::ScratchDir("trace_python_writer_v2");
+  const std::string v2 = dynref::test::SourcePath("tests/data/trace_v2/bench_schema2.dtr");
+  REQUIRE(RunDynref("trace dump '" + v2 + "' --format jsonl > '" + dir + "/r.jsonl'").exit_code == 0);
+  // A schema 2 era JSONL has no associated_map_point_id: strip it as such a dump would be.
+  REQUIRE(std::system(("sed -i 's/,\"associated_map_point_id\":\"[-0-9]*\"//' '" + dir + "/r.jsonl'").c_str()) == 0);
+  REQUIRE(Slurp(dir + "/r.jsonl").find("associated") == std::string::npos);
+  const std::string py = "python3 '" + dynref::test::SourcePath("ref/trace/dtr_from_jsonl.py") + "' ";
+  REQUIRE(std::system((py + "'" + dir + "/r.jsonl' '" + dir + "/v3.dtr'").c_str()) == 0);
+  const auto head = RunDynref("trace dump '" + dir + "/v3.dtr' --header");
+  CHECK(head.output.find("schema_version,3") != std::string::npos);
+  const auto d = RunDynref("diff '" + v2 + "' '" + dir + "/v3.dtr'");
+  INFO(d.output);
+  CHECK(d.exit_code == 0);
+  // and the JSONL without the field diffs identical to the schema 2 trace as well
+  CHECK(RunDynref("diff '" + v2 + "' '" + dir + "/r.jsonl'").exit_code == 0);
+}

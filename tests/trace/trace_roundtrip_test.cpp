@@ -6,6 +6,7 @@
 #include "test_support.h"
 #include "trace/trace_dump.h"
 #include "trace/trace_reader.h"
+#include "trace/trace_source.h"
 #include "trace_sample.h"
 
 using namespace dynref::trace;
@@ -39,6 +40,12 @@ TEST_CASE("writer to reader round trip keeps every value bit-exact") {
   CHECK(recs[1].T_wc[7] == 1.0 / 3.0);
   CHECK(recs[4].v == 200.5 / 3.0 + 1);
   CHECK(recs[4].map_point_id == 8);
+  CHECK(recs[4].associated_map_point_id == 8);
+  CHECK(recs[5].map_point_id == -1);             // f1.2: suppressed ...
+  CHECK(recs[5].associated_map_point_id == 20);  // ... but associated with mp20 (schema 3)
+  CHECK(recs[3].associated_map_point_id == -1);  // f1.0: never associated
+  CHECK(r.schema_version() == kSchemaVersion);
+  CHECK(kSchemaVersion == 3);
   CHECK(recs[4].descriptor_hash == 0x1234567890abcdefULL + 1);
   CHECK(recs[7].stage == "mgd.temporal");
   CHECK(recs[7].after == 0.8 / 3.0 + 0.01);
@@ -105,4 +112,61 @@ TEST_CASE("level off writes nothing, frames level keeps only frame records") {
     w.BeginFrame(0, 0.0);
   }  // destroyed without Close(): nothing under the final name
   CHECK(!std::ifstream(dir + "/abandoned.dtr").good());
+}
+
+TEST_CASE("OBS associated_map_point_id is an exact field of the canonical view, after map_point_id") {
+  const std::string dir = dynref::test::ScratchDir("trace_obs_associated");
+  dynref::test::WriteSampleTrace(dir + "/trace.dtr");
+  DumpOptions o;
+  o.frame = 1;
+  o.entity = "f1.2";
+  const std::string csv = Dump(dir + "/trace.dtr", o);
+  CHECK(csv.find("1,obs,,feature,f1.2,0,map_point_id,-1\n1,obs,,feature,f1.2,0,associated_map_point_id,20\n") !=
+        std::string::npos);
+  o.format = "jsonl";
+  CHECK(Dump(dir + "/trace.dtr", o).find("\"map_point_id\":\"-1\",\"associated_map_point_id\":\"20\",\"u\"") !=
+        std::string::npos);
+}
+
+TEST_CASE("schema 2 traces (no associated field) read with associated = map_point_id") {
+  // tests/data/trace_v2: `dynref trace bench --frames 3 --features 6 --residuals 2` of dynref schema 2.
+  const std::string v2 = dynref::test::SourcePath("tests/data/trace_v2/bench_schema2.dtr");
+  TraceReader r(v2);
+  CHECK(r.schema_version() == 2);
+  REQUIRE(r.groups().size() == 3);
+  int obs = 0;
+  for (size_t g = 0; g < r.groups().size(); ++g)
+    for (const Record& x : r.ReadGroup(g))
+      if (x.type == RecordType::kObservation) {
+        ++obs;
+        CHECK(x.map_point_id == 7 * x.feature_index);
+        CHECK(x.associated_map_point_id == x.map_point_id);
+        CHECK(x.u == 100.5 + static_cast<double>(x.feature_index));  // the fields after it still line up
+        CHECK(x.descriptor_hash == 0x9e3779b97f4a7c15ULL * static_cast<uint64_t>(x.feature_index));
+      }
+  CHECK(obs == 18);
+  DumpOptions o;
+  o.entity = "f1.3";
+  CHECK(Dump(v2, o).find("1,obs,,feature,f1.3,0,associated_map_point_id,21\n") != std::string::npos);
+  // The same bytes re-encoded by this writer (schema 3) diff as identical to the schema 2 file.
+  const std::string dir = dynref::test::ScratchDir("trace_schema2_read");
+  const auto replay = dynref::test::RunDynref("trace bench --replay '" + v2 + "' --out '" + dir + "/v3.dtr'");
+  REQUIRE(replay.exit_code == 0);
+  CHECK(TraceReader(dir + "/v3.dtr").schema_version() == 3);
+  const auto d = dynref::test::RunDynref("diff '" + v2 + "' '" + dir + "/v3.dtr'");
+  INFO(d.output);
+  CHECK(d.exit_code == 0);
+}
+
+TEST_CASE("a schema 2 JSONL dump (no associated field) parses with associated = map_point_id") {
+  const std::string line =
+      "{\"frame\":4,\"type\":\"obs\",\"stage\":\"\",\"kind\":\"feature\",\"entity\":\"f4.2\",\"occurrence\":0,"
+      "\"fields\":{\"map_point_id\":\"13\",\"u\":1.5,\"v\":2.5,\"depth_m\":0,\"octave\":\"1\","
+      "\"descriptor_hash\":\"00000000000000ff\"}}";
+  const FlatRecord f = ParseJsonlRecord(line, "x.jsonl", 1);
+  REQUIRE(f.fields.size() == 7);
+  CHECK(f.fields[1].name == "associated_map_point_id");
+  CHECK(f.fields[1].exact);
+  CHECK(f.fields[1].text == "13");
+  CHECK(f.fields[2].name == "u");
 }

@@ -30,9 +30,11 @@ inline void WriteSampleTrace(const std::string& path, const SampleTweak& tweak =
     T.translation() = Eigen::Vector3d(0.1 * frame, 1.0 / 3.0, -2.5);
     w.FramePose("initial", T);
     w.FrameCount("extract", "keypoints", 1000 + frame);
+    // Feature 2 is the suppressed one (the sgdo.epipolar decision below): no final map point, but
+    // associated with mp20 when the stages saw it (schema 3 associated_map_point_id).
     for (int i = 0; i < 4; ++i)
-      w.Observation(i, i % 2 ? 7 + i : -1, 100.25 + i, 200.5 / 3.0 + i, i ? 1.5 + 0.1 * i : 0.0, i % 3,
-                    0x1234567890abcdefULL + i);
+      w.Observation(i, i % 2 ? 7 + i : -1, i % 2 ? 7 + i : (i == 2 ? 20 : -1), 100.25 + i, 200.5 / 3.0 + i,
+                    i ? 1.5 + 0.1 * i : 0.0, i % 3, 0x1234567890abcdefULL + i);
     auto prob = [&](const std::string& entity, double after) {
       double a = after;
       if (frame == 1 && entity == "mp7") a += tweak.after_delta;

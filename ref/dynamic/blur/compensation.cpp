@@ -71,8 +71,16 @@ CompensationResult MissedSegmentationCompensator::Process(double t, const std::v
   std::vector<Track> next;
   for (size_t b = 0; b < persons.size(); ++b) {
     Track tr;
-    if (track_of_person[b] >= 0) tr = tracks_[size_t(track_of_person[b])];
-    else tr.id = next_id_++;
+    PersonAssociation as;
+    if (track_of_person[b] >= 0) {
+      tr = tracks_[size_t(track_of_person[b])];
+      as.found = true;
+      as.iou = BoxIou(tr.box, persons[b].box);
+    } else {
+      tr.id = next_id_++;
+    }
+    as.track = tr.id;
+    res.association.push_back(as);
     tr.history.push_back({double(persons[b].box.x), double(persons[b].box.y), t});
     while (int(tr.history.size()) > o_.history) tr.history.pop_front();
     tr.mask = persons[b].mask;
@@ -85,10 +93,19 @@ CompensationResult MissedSegmentationCompensator::Process(double t, const std::v
   // r = A_c / A_{c-1} over all persons (E1); A_{c-1} = 0: undefined, no compensation.
   if (last_area_ > 0) res.r = res.area_now / last_area_;
   res.triggered = enabled && res.r >= 0 && res.r < o_.r_threshold;
+  // Previous tracks not found end here unless pasted (trace: why).
+  const auto drop = [&](size_t a, DroppedTrack::Why why) { res.dropped.push_back({tracks_[a].id, why}); };
+  if (!res.triggered)
+    for (size_t a = 0; a < tracks_.size(); ++a)
+      if (!track_found[a]) drop(a, enabled ? DroppedTrack::kNotTriggered : DroppedTrack::kCompensationOff);
   if (res.triggered) {
     const cv::Rect image(0, 0, size_.width, size_.height);
     for (size_t a = 0; a < tracks_.size(); ++a) {
-      if (track_found[a] || tracks_[a].consecutive >= o_.max_consecutive) continue;
+      if (track_found[a]) continue;
+      if (tracks_[a].consecutive >= o_.max_consecutive) {
+        drop(a, DroppedTrack::kMaxConsecutive);
+        continue;
+      }
       Track tr = tracks_[a];
       const std::vector<CornerSample> h(tr.history.begin(), tr.history.end());
       const cv::Point2d to = PredictCorner(h, t);
@@ -97,23 +114,32 @@ CompensationResult MissedSegmentationCompensator::Process(double t, const std::v
       cv::Mat moved = cv::Mat::zeros(size_, CV_8U);
       const cv::Rect src = image & (image - cv::Point(dx, dy));
       if (src.area() > 0) tr.mask(src).copyTo(moved(src + cv::Point(dx, dy)));
-      if (cv::countNonZero(moved) == 0) continue;  // predicted out of the image: the person left
+      const int moved_px = cv::countNonZero(moved);
+      if (moved_px == 0) {  // predicted out of the image: the person left
+        drop(a, DroppedTrack::kOutsideImage);
+        continue;
+      }
       PastedMask pm;
       pm.track = tr.id;
       pm.samples = int(h.size());
+      pm.history = h;
       pm.from = {double(tr.box.x), double(tr.box.y)};
       pm.to = to;
+      pm.shift = {dx, dy};
+      pm.moved_px = moved_px;
       const cv::Mat added = moved & ~res.mask;
       pm.pasted_px = cv::countNonZero(added);
       res.compensated |= added;
       res.mask |= moved;
-      res.pasted.push_back(pm);
       // E2: the history continues with the compensated state, so repeated drop-outs are bridged.
       tr.mask = moved;
       tr.box = cv::boundingRect(moved);
       tr.history.push_back({to.x, to.y, t});
       while (int(tr.history.size()) > o_.history) tr.history.pop_front();
       ++tr.consecutive;
+      pm.box = tr.box;
+      pm.consecutive = tr.consecutive;
+      res.pasted.push_back(std::move(pm));
       res.boxes.push_back(tr.box);
       next.push_back(std::move(tr));
     }

@@ -39,8 +39,27 @@ struct PersonMask {
 struct PastedMask {
   int track = 0;                  // track id (stable across frames)
   int samples = 0;                // history entries used for the fit
-  cv::Point2d from, to;           // last corner and predicted corner
+  std::vector<CornerSample> history;  // the (x, y, t) the fit used, oldest first (trace)
+  cv::Point2d from, to;           // last box corner and predicted corner
+  cv::Point shift;                // (dx, dy) = round(to - from): the translation of the last mask
+  cv::Rect box;                   // tight box of the translated, clipped mask
+  int moved_px = 0;               // pixels of the translated, clipped mask
   int pasted_px = 0;              // pixels the paste added to M_s (not already in it)
+  int consecutive = 0;            // frames in a row this track has been predicted, this one included
+};
+
+// How a current person was associated (E3), in the order of the persons given to Process.
+struct PersonAssociation {
+  int track = 0;                  // track id (a new one when not found)
+  bool found = false;             // matched to a previous track (box IoU >= iou_found)
+  double iou = 0;                 // box IoU with that track's last box (0 when new)
+};
+
+// A previous track neither found nor pasted in this frame: it ends here.
+struct DroppedTrack {
+  enum Why { kCompensationOff, kNotTriggered, kMaxConsecutive, kOutsideImage };
+  int track = 0;
+  Why why = kNotTriggered;
 };
 
 struct CompensationResult {
@@ -51,6 +70,8 @@ struct CompensationResult {
   double r = -1;                  // A_c / A_{c-1}; -1 when A_{c-1} = 0 (no compensation, E1)
   bool triggered = false;         // r < r_threshold
   std::vector<PastedMask> pasted;
+  std::vector<PersonAssociation> association;  // one per current person
+  std::vector<DroppedTrack> dropped;           // ascending track id
 };
 
 // Keeps the per-person history across frames (one instance per run).

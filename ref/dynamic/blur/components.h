@@ -4,6 +4,7 @@
 //   blur.probability  (kAfterExtraction, after blur.mask) Eq. (20) + k-d tree probabilities,
 //                     keypoints with P > theta excluded before any matching
 #pragma once
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -44,6 +45,8 @@ class MaskStage : public Stage {
   std::shared_ptr<Board> board_;
   std::unique_ptr<FusedMaskBuilder> builder_;  // created at the first frame (image size)
   std::unique_ptr<MaskLayersWriter> layers_;   // null unless write_mask_layers
+  std::map<int, std::string> track_entity_;    // trace full: entity of every live track's last state
+  void TraceMask(trace::TraceWriter& tr, const Frame& f, const FusedMask& m);
 };
 
 class ProbabilityStage : public Stage {

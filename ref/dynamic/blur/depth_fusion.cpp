@@ -20,8 +20,13 @@ std::vector<cv::Point> StratifiedSamples(cv::Size size, const DepthFusionOptions
     for (int c = 0; c < o.grid_cols; ++c) {
       const int x0 = c * size.width / o.grid_cols, x1 = (c + 1) * size.width / o.grid_cols;
       if (x1 <= x0 || y1 <= y0) continue;  // more cells than pixels
-      for (int s = 0; s < o.samples_per_cell; ++s)
-        out.emplace_back(int(rng.UniformInt(x0, x1 - 1)), int(rng.UniformInt(y0, y1 - 1)));
+      for (int s = 0; s < o.samples_per_cell; ++s) {
+        // Row first, then column: the order GCC gave the two draws when they were the unsequenced
+        // arguments of one call (kept so that results do not change; trace verify replays it).
+        const int y = int(rng.UniformInt(y0, y1 - 1));
+        const int x = int(rng.UniformInt(x0, x1 - 1));
+        out.emplace_back(x, y);
+      }
     }
   }
   return out;
@@ -35,10 +40,12 @@ HumanValueRange FuseBoxDepth(const cv::Mat& depth_m, const cv::Rect& box_in, con
   double sum = 0;
   for (const cv::Point& p : samples) {
     if (!box.contains(p)) continue;
+    ++h.in_box;
     const float g = depth_m.at<float>(p);
     if (!(g > 0)) continue;
     sum += g;
     ++h.samples;
+    h.sample_depths.push_back(g);
   }
   if (h.samples == 0) return h;
   h.g_h = sum / h.samples;

@@ -20,11 +20,14 @@ struct DepthFusionOptions {
 };
 
 // s_reg uniform pixel positions in each of the n_reg rectangles, row-major cell order, drawn
-// from rng (one frame's samples, shared by every box of the frame).
+// from rng (one frame's samples, shared by every box of the frame), each sample's row drawn
+// before its column.
 std::vector<cv::Point> StratifiedSamples(cv::Size size, const DepthFusionOptions& o, Rng& rng);
 
 struct HumanValueRange {
+  int in_box = 0;               // sample positions inside the box (valid depth or not)
   int samples = 0;              // valid-depth samples inside the box (|P_f^i|)
+  std::vector<double> sample_depths;  // their depths (m), in sample order (trace)
   double g_h = 0;               // their mean depth (m)
   double lo = 0, hi = 0;        // O_h
   double mu_box = 0, sigma_box = 0;

@@ -1,8 +1,10 @@
 // blur.mask: seed 003 Sec. 3.1-3.2 (spec 003 steps 1-3). Person masks from the segmenter, the
 // missed-segmentation compensation (compensation.h), depth fusion of every person box after
-// compensation (depth_fusion.h), then dilation. Every step is traced: r per frame, each pasted
-// prediction, each box's human value range and the pixels it added, and the pixel counts by origin.
+// compensation (depth_fusion.h), then dilation. Every step is traced (README "Trace"): the areas
+// behind r per frame, each person's association, each pasted prediction with its history, each
+// track that ends, each box's human value range and samples, and the pixel counts by origin.
 #include <algorithm>
+#include <map>
 #include <stdexcept>
 
 #include "core/error.h"
@@ -55,6 +57,73 @@ void MaskStage::Finish(RunEnd& end) {
                                                        " frames (segmenter / compensation / depth-fusion / dilation)");
 }
 
+// Trace level full (README "Trace"): every person with its association, every pasted prediction
+// with the (x, y, t) history behind its fit, every track that ends, every fused box with its
+// samples. Regions (pastes, then fused boxes) are pixel regions r<frame>.<k>; persons are
+// instance masks i<frame>.<detection id>.
+void MaskStage::TraceMask(trace::TraceWriter& tr, const Frame& f, const FusedMask& m) {
+  const std::string fi = std::to_string(f.index);
+  const CompensationResult& comp = m.comp;
+  std::map<int, std::string> entity_of_track;  // this frame's state of every live track
+  for (size_t b = 0; b < m.persons.size(); ++b) {
+    const cv::Rect& box = m.persons[b].box;
+    const PersonAssociation& as = comp.association[b];
+    const std::string id = "i" + fi + "." + std::to_string(m.persons[b].detection_id);
+    tr.ProbabilityUpdate("blur.compensation", trace::EntityKind::kInstanceMask, id,
+                         {{"track", double(as.track)}, {"found", as.found ? 1.0 : 0.0}, {"iou", as.iou},
+                          {"x_min", double(box.x)}, {"y_min", double(box.y)},
+                          {"x_max", double(box.br().x - 1)}, {"y_max", double(box.br().y - 1)}, {"t", f.stamp}},
+                         1.0, 1.0);  // a segmented person is dynamic (paper Sec. 3.1)
+    entity_of_track[as.track] = id;
+  }
+  int region = 0;
+  for (const PastedMask& pm : comp.pasted) {
+    std::vector<trace::NamedValue> in = {{"track", double(pm.track)}, {"samples", double(pm.samples)}};
+    for (size_t j = 0; j < pm.history.size(); ++j) {
+      const std::string k = std::to_string(j);
+      in.push_back({"x" + k, pm.history[j].x});
+      in.push_back({"y" + k, pm.history[j].y});
+      in.push_back({"t" + k, pm.history[j].t});
+    }
+    in.insert(in.end(), {{"t_c", f.stamp}, {"from_x", pm.from.x}, {"from_y", pm.from.y}, {"to_x", pm.to.x},
+                         {"to_y", pm.to.y}, {"dx", double(pm.shift.x)}, {"dy", double(pm.shift.y)},
+                         {"x_min", double(pm.box.x)}, {"y_min", double(pm.box.y)},
+                         {"x_max", double(pm.box.br().x - 1)}, {"y_max", double(pm.box.br().y - 1)},
+                         {"moved_px", double(pm.moved_px)}, {"pasted_px", double(pm.pasted_px)},
+                         {"consecutive", double(pm.consecutive)}});
+    const std::string id = "r" + fi + "." + std::to_string(region++);
+    // Before: not in the segmenter's mask; after: pasted into M_s, dynamic (Sec. 3.1).
+    tr.ProbabilityUpdate("blur.compensation", trace::EntityKind::kPixelRegion, id, in, 0.0, 1.0);
+    entity_of_track[pm.track] = id;
+  }
+  static const char* const kWhy[] = {"lost:compensation-off", "lost:not-triggered", "lost:max-consecutive",
+                                     "lost:outside-image"};
+  for (const DroppedTrack& d : comp.dropped) {
+    // The decision names the track's last state (the previous frame's record carrying it).
+    const auto it = track_entity_.find(d.track);
+    if (it == track_entity_.end()) throw std::logic_error("blur.mask: dropped track without a traced state");
+    const trace::EntityKind kind =
+        it->second[0] == 'i' ? trace::EntityKind::kInstanceMask : trace::EntityKind::kPixelRegion;
+    tr.Decision("blur.compensation", kind, it->second, false, kWhy[d.why]);
+  }
+  track_entity_ = std::move(entity_of_track);
+  for (size_t b = 0; b < m.fusion.size(); ++b) {
+    const BoxFusion& bf = m.fusion[b];
+    const HumanValueRange& h = bf.range;
+    // Geometry inputs x_min..y_max (ref/trace/README.md) so overlays draw the box.
+    std::vector<trace::NamedValue> in = {
+        {"box", double(b)}, {"x_min", double(bf.box.x)}, {"y_min", double(bf.box.y)},
+        {"x_max", double(bf.box.br().x - 1)}, {"y_max", double(bf.box.br().y - 1)}, {"in_box", double(h.in_box)},
+        {"samples", double(h.samples)}, {"g_h", h.g_h}, {"lo", h.lo}, {"hi", h.hi}, {"mu_box", h.mu_box},
+        {"sigma_box", h.sigma_box}, {"box_valid_px", double(h.box_valid_px)}, {"fused_px", double(h.fused_px)},
+        {"added_px", double(bf.added_px)}};
+    for (size_t j = 0; j < h.sample_depths.size(); ++j) in.push_back({"d" + std::to_string(j), h.sample_depths[j]});
+    // After: the box's M_d^i is dynamic when it holds a pixel (Sec. 3.2).
+    tr.ProbabilityUpdate("blur.depth_fusion", trace::EntityKind::kPixelRegion, "r" + fi + "." + std::to_string(region++),
+                         in, 0.0, h.fused_px > 0 ? 1.0 : 0.0);
+  }
+}
+
 void MaskStage::Run(StageContext& ctx) {
   const Frame& f = ctx.frame.view();
   if (f.detections == nullptr)
@@ -62,29 +131,7 @@ void MaskStage::Run(StageContext& ctx) {
   if (!builder_) builder_ = std::make_unique<FusedMaskBuilder>(o_, cv::Size(ctx.camera.width, ctx.camera.height));
   const FusedMask m = builder_->Build(*f.detections, f.depth_m, f.stamp, "--detections");
   trace::TraceWriter& tr = ctx.trace;
-  const std::string fid = "f" + std::to_string(f.index);
-  const CompensationResult& comp = m.comp;
-  tr.ProbabilityUpdate("blur.compensation", trace::EntityKind::kFrame, fid,
-                       {{"area_now", comp.area_now}, {"area_before", comp.area_before},
-                        {"r_threshold", o_.comp.r_threshold}, {"enabled", o_.compensation ? 1.0 : 0.0}},
-                       comp.r, comp.triggered ? 1.0 : 0.0);
-  for (const PastedMask& pm : comp.pasted)
-    tr.ProbabilityUpdate("blur.compensation", trace::EntityKind::kInstanceMask, fid + ".t" + std::to_string(pm.track),
-                         {{"samples", double(pm.samples)}, {"from_x", pm.from.x}, {"from_y", pm.from.y},
-                          {"to_x", pm.to.x}, {"to_y", pm.to.y}},
-                         0.0, double(pm.pasted_px));
-  for (size_t b = 0; b < m.fusion.size(); ++b) {
-    const BoxFusion& bf = m.fusion[b];
-    const HumanValueRange& h = bf.range;
-    // Geometry inputs x_min..y_max (ref/trace/README.md) so overlays draw the box.
-    tr.ProbabilityUpdate("blur.depth_fusion", trace::EntityKind::kPixelRegion, fid + ".b" + std::to_string(b),
-                         {{"x_min", double(bf.box.x)}, {"y_min", double(bf.box.y)},
-                          {"x_max", double(bf.box.br().x - 1)}, {"y_max", double(bf.box.br().y - 1)},
-                          {"samples", double(h.samples)}, {"g_h", h.g_h}, {"lo", h.lo}, {"hi", h.hi},
-                          {"mu_box", h.mu_box}, {"sigma_box", h.sigma_box}, {"fused_px", double(h.fused_px)},
-                          {"added_px", double(bf.added_px)}},
-                         0.0, double(bf.added_px) / std::max(1, bf.box.area()));  // share of the box added
-  }
+  if (tr.full_enabled()) TraceMask(tr, f, m);
   Board& board = *board_;
   board.frame = f.index;
   board.stamp = f.stamp_text;
@@ -92,7 +139,10 @@ void MaskStage::Run(StageContext& ctx) {
   board.origin = m.origin;
   if (layers_) layers_->Add(f.stamp_text, m.origin);
   tr.FrameCount(name(), "persons", int64_t(m.persons.size()));
-  tr.FrameCount(name(), "pasted", int64_t(comp.pasted.size()));
+  tr.FrameCount(name(), "area_now", int64_t(m.comp.area_now));
+  tr.FrameCount(name(), "area_before", int64_t(m.comp.area_before));
+  tr.FrameCount(name(), "area_after", int64_t(cv::countNonZero(m.comp.mask)));
+  tr.FrameCount(name(), "pasted", int64_t(m.comp.pasted.size()));
   tr.FrameCount(name(), "px_segmenter", cv::countNonZero(m.origin == kSegmenter));
   tr.FrameCount(name(), "px_compensation", cv::countNonZero(m.origin == kCompensation));
   tr.FrameCount(name(), "px_depth_fusion", cv::countNonZero(m.origin == kDepthFusion));

@@ -42,10 +42,14 @@ void ProbabilityStage::Run(StageContext& ctx) {
   int64_t in_m = 0, by_probability = 0;
   for (size_t k = 0; k < kp.size(); ++k) {
     const KeypointProbability& p = kp[k];
-    tr.ProbabilityUpdate(name(), trace::EntityKind::kFeature, f.FeatureId(index[k]),
-                         {{"neighbours", double(p.neighbours)}, {"dynamic_neighbours", double(p.dynamic_neighbours)},
-                          {"radius_px", o_.radius_px}, {"theta", o_.theta}},
-                         p.pre, p.post);
+    // x, y: the keypoint coordinates the neighbour search and the mask look-up used (Frame::keys,
+    // before undistortion; OBS u, v are the undistorted ones, equal on undistorted cameras).
+    if (tr.full_enabled())
+      tr.ProbabilityUpdate(name(), trace::EntityKind::kFeature, f.FeatureId(index[k]),
+                           {{"x", double(pts[k].x)}, {"y", double(pts[k].y)}, {"neighbours", double(p.neighbours)},
+                            {"dynamic_neighbours", double(p.dynamic_neighbours)}, {"radius_px", o_.radius_px},
+                            {"theta", o_.theta}},
+                           p.pre, p.post);
     if (!p.dynamic) continue;
     const bool mask = p.pre > 0;
     in_m += mask, by_probability += !mask;

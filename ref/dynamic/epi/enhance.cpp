@@ -36,13 +36,16 @@ StretchResult CdfStretch(const cv::Mat& grey8, double s) {
   int lo = 0, hi = 255;
   int64_t cum = 0;
   bool have_lo = false, have_hi = false;
+  double below = 0, cdf_lo_below = 0, cdf_lo = 0, cdf_hi_below = 0, cdf_hi = 0;
   for (int g = 0; g < 256 && !(have_lo && have_hi); ++g) {
     cum += hist[size_t(g)];
     const double cdf = double(cum) / n;
-    if (!have_lo && cdf >= s) lo = g, have_lo = true;
-    if (!have_hi && cdf >= 1.0 - s) hi = g, have_hi = true;
+    if (!have_lo && cdf >= s) lo = g, have_lo = true, cdf_lo_below = below, cdf_lo = cdf;
+    if (!have_hi && cdf >= 1.0 - s) hi = g, have_hi = true, cdf_hi_below = below, cdf_hi = cdf;
+    below = cdf;
   }
   StretchResult r;
+  r.cdf_lo_below = cdf_lo_below, r.cdf_lo = cdf_lo, r.cdf_hi_below = cdf_hi_below, r.cdf_hi = cdf_hi;
   r.lo = lo / 255.0;
   r.hi = hi / 255.0;
   grey8.convertTo(r.stretched, CV_32F, 1.0 / 255.0);
@@ -76,7 +79,7 @@ cv::Mat LocalWeightedEnhance(const cv::Mat& I, const EnhanceParams& p, int threa
   return out;
 }
 
-double EnhancementFitness(const cv::Mat& E, double edge_threshold, int threads) {
+double EnhancementFitness(const cv::Mat& E, double edge_threshold, int threads, FitnessTerms* terms) {
   cv::Mat gx, gy;
   cv::Sobel(E, gx, CV_32F, 1, 0, 3, 1, 0, cv::BORDER_REFLECT_101);
   cv::Sobel(E, gy, CV_32F, 0, 1, 3, 1, 0, cv::BORDER_REFLECT_101);
@@ -101,11 +104,13 @@ double EnhancementFitness(const cv::Mat& E, double edge_threshold, int threads) 
       ++hist[size_t(std::clamp(int(e[x] * 255.0f + 0.5f), 0, 255))];
     }
   }
+  if (terms != nullptr) *terms = FitnessTerms{sum, edges, int64_t(E.total()), 0.0};
   if (!(sum > std::exp(1.0)) || edges == 0) return -std::numeric_limits<double>::infinity();
   const double n = double(E.total());
   double entropy = 0;
   for (int64_t h : hist)
     if (h > 0) entropy -= (double(h) / n) * std::log2(double(h) / n);
+  if (terms != nullptr) terms->entropy = entropy;
   return std::log(std::log(sum)) * (double(edges) / n) * entropy;
 }
 
@@ -114,7 +119,9 @@ EnhanceResult Enhance(const cv::Mat& grey8, const EnhanceParams& p, int threads)
   const StretchResult st = CdfStretch(grey8, p.s);
   r.lo = st.lo, r.hi = st.hi;
   const cv::Mat full = LocalWeightedEnhance(st.stretched, p, threads);
-  r.fitness = EnhancementFitness(full, p.edge_threshold, threads);
+  r.fitness = EnhancementFitness(full, p.edge_threshold, threads, &r.fitness_terms);
+  r.stretch = st;
+  r.stretch.stretched = cv::Mat();
   cv::Mat small, small_e, up;
   cv::resize(st.stretched, small, cv::Size(), p.down, p.down, cv::INTER_AREA);
   small_e = LocalWeightedEnhance(small, p, threads);

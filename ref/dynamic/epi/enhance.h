@@ -12,6 +12,8 @@
 #pragma once
 #include <opencv2/core.hpp>
 
+#include <cstdint>
+
 namespace dynref::epi {
 
 struct EnhanceParams {
@@ -31,6 +33,9 @@ struct EnhanceParams {
 struct StretchResult {
   cv::Mat stretched;          // CV_32F in [0, 1]
   double lo = 0, hi = 1;      // I_lo, I_hi in [0, 1]
+  // The CDF at I_lo - 1/255 and I_lo (and at I_hi): cdf_lo_below < s <= cdf_lo (the trace's proof
+  // of the percentile rule; the value below the first grey level is 0).
+  double cdf_lo_below = 0, cdf_lo = 0, cdf_hi_below = 0, cdf_hi = 0;
 };
 // a + b on a CV_8U grey image.
 StretchResult CdfStretch(const cv::Mat& grey8, double s);
@@ -38,13 +43,24 @@ StretchResult CdfStretch(const cv::Mat& grey8, double s);
 // side by side; sums stay in one fixed order, so the results are the same bytes for any count.
 // c on CV_32F [0, 1].
 cv::Mat LocalWeightedEnhance(const cv::Mat& stretched, const EnhanceParams& p, int threads = 1);
+// The statistics the fitness consumes (traced by epi.enhance: the fitness is recomputed from them).
+struct FitnessTerms {
+  double sobel_sum = 0;       // sum over pixels of |Sobel|
+  int64_t edge_pixels = 0;    // pixels with |Sobel| > edge_threshold
+  int64_t pixels = 0;
+  double entropy = 0;         // bits, of the 256-bin histogram of E
+};
 // d: the fitness of an enhanced CV_32F [0, 1] image; -inf when it has no edges at all.
-double EnhancementFitness(const cv::Mat& enhanced, double edge_threshold, int threads = 1);
+// `terms` (optional) receives the statistics (entropy 0 when the fitness is -inf).
+double EnhancementFitness(const cv::Mat& enhanced, double edge_threshold, int threads = 1,
+                          FitnessTerms* terms = nullptr);
 
 struct EnhanceResult {
   cv::Mat grey8;              // CV_8U, what feature extraction sees
   double lo = 0, hi = 1;      // the stretch
   double fitness = 0;         // of E(I_s) at full scale
+  StretchResult stretch;      // a + b (its CDF values; `stretched` released)
+  FitnessTerms fitness_terms; // of `fitness`
   double mean_in = 0, mean_out = 0;  // mean grey in [0, 1] before and after
 };
 // a-f on a CV_8U grey image.

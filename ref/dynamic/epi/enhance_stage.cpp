@@ -1,7 +1,8 @@
 // epi.enhance: seed 004 Module A on every frame's grey image (enhance.h), (alpha, p) tuned once by
-// BOA on the first frame (butterfly.h, spec 004 E2) or fixed. Traced: the BOA best fitness per
-// iteration and the chosen (alpha, p); per frame I_lo, I_hi, the fitness and the mean grey before
-// and after.
+// BOA on the first frame (butterfly.h, spec 004 E2) or fixed. Traced (README "Trace", p = 0): the
+// BOA best fitness per iteration and the chosen (alpha, p); per frame I_lo, I_hi with the CDF
+// values that prove them, the fitness with the statistics it is computed from, the mean grey
+// before and after.
 #include "core/error.h"
 #include "dynamic/epi/stages.h"
 
@@ -78,17 +79,27 @@ void EnhanceStage::Run(StageContext& ctx) {
   BoaResult boa;
   const EnhanceResult e = enhancer_.Enhance(grey, &boa, ctx.threads);
   const EnhanceParams& q = enhancer_.params();
-  if (boa.evaluations > 0) {
-    for (size_t it = 0; it < boa.best_per_iteration.size(); ++it)
-      tr.ProbabilityUpdate("epi.boa", trace::EntityKind::kFrame, fid + ".it" + std::to_string(it), {}, 0.0,
-                           boa.best_per_iteration[it]);
-    tr.ProbabilityUpdate("epi.boa", trace::EntityKind::kFrame, fid,
-                         {{"alpha", q.alpha}, {"p", q.p}, {"evaluations", double(boa.evaluations)}}, 0.0,
-                         boa.best_fitness);
+  if (tr.full_enabled()) {
+    // p = 0 on every record: fitness and grey statistics are no evidence of motion (README "Trace").
+    if (boa.evaluations > 0) {
+      for (size_t it = 0; it < boa.best_per_iteration.size(); ++it)
+        tr.ProbabilityUpdate("epi.boa", trace::EntityKind::kFrame, fid,
+                             {{"iteration", double(it)}, {"best_fitness", boa.best_per_iteration[it]}}, 0.0, 0.0);
+      tr.ProbabilityUpdate("epi.boa", trace::EntityKind::kFrame, fid,
+                           {{"alpha", q.alpha}, {"p", q.p}, {"evaluations", double(boa.evaluations)},
+                            {"best_fitness", boa.best_fitness}},
+                           0.0, 0.0);
+    }
+    const StretchResult& st = e.stretch;
+    const FitnessTerms& ft = e.fitness_terms;
+    tr.ProbabilityUpdate(name(), trace::EntityKind::kFrame, fid,
+                         {{"I_lo", e.lo}, {"I_hi", e.hi}, {"cdf_lo_below", st.cdf_lo_below}, {"cdf_lo", st.cdf_lo},
+                          {"cdf_hi_below", st.cdf_hi_below}, {"cdf_hi", st.cdf_hi}, {"alpha", q.alpha}, {"p", q.p},
+                          {"sobel_sum", ft.sobel_sum}, {"edge_pixels", double(ft.edge_pixels)},
+                          {"pixels", double(ft.pixels)}, {"entropy", ft.entropy}, {"fitness", e.fitness},
+                          {"mean_in", e.mean_in}, {"mean_out", e.mean_out}},
+                         0.0, 0.0);
   }
-  tr.ProbabilityUpdate(name(), trace::EntityKind::kFrame, fid,
-                       {{"I_lo", e.lo}, {"I_hi", e.hi}, {"alpha", q.alpha}, {"p", q.p}, {"fitness", e.fitness}},
-                       e.mean_in, e.mean_out);
   grey = e.grey8;
 }
 

@@ -36,20 +36,27 @@ Eigen::Matrix<double, 3, 4> Projection(const Intrinsics& K, const SE3& T_cw) {
 }  // namespace
 
 Triangulated TriangulateDlt(const Intrinsics& K, const SE3& T_cw0, const SE3& T_cw1, const Eigen::Vector2d& x0,
-                            const Eigen::Vector2d& x1, const TriangulationGates& gates, Eigen::Vector3d* X) {
+                            const Eigen::Vector2d& x1, const TriangulationGates& gates, Eigen::Vector3d* X,
+                            TriangulationValues* values) {
+  TriangulationValues v;
+  if (values == nullptr) values = &v;
   // Parallax of the two viewing rays (world frame), tested before solving (ORB-SLAM2
   // LocalMapping::CreateNewMapPoints: cosParallaxRays < 0.9998).
   const Eigen::Vector3d r0 = T_cw0.linear().transpose() *
                              Eigen::Vector3d((x0.x() - K.cx) / K.fx, (x0.y() - K.cy) / K.fy, 1.0);
   const Eigen::Vector3d r1 = T_cw1.linear().transpose() *
                              Eigen::Vector3d((x1.x() - K.cx) / K.fx, (x1.y() - K.cy) / K.fy, 1.0);
-  if (r0.dot(r1) / (r0.norm() * r1.norm()) >= gates.parallax_cos_max) return Triangulated::kParallax;
+  values->cos_parallax = r0.dot(r1) / (r0.norm() * r1.norm());
+  if (values->cos_parallax >= gates.parallax_cos_max) return Triangulated::kParallax;
   Eigen::Vector3d Xw;
   if (!geometry::TriangulateLinear(Projection(K, T_cw0), Projection(K, T_cw1), x0, x1, &Xw))
     return Triangulated::kDegenerate;
+  values->X = Xw;
   const Eigen::Vector3d c0 = T_cw0 * Xw, c1 = T_cw1 * Xw;
+  values->z0 = c0.z(), values->z1 = c1.z();
   if (!(c0.z() > 0) || !(c1.z() > 0)) return Triangulated::kBehind;
   const double e0 = (K.Project(c0) - x0).norm(), e1 = (K.Project(c1) - x1).norm();
+  values->err0 = e0, values->err1 = e1;
   if (!(e0 < gates.reprojection_px) || !(e1 < gates.reprojection_px)) return Triangulated::kReprojection;
   *X = Xw;
   return Triangulated::kOk;

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 #include <opencv2/core.hpp>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -31,10 +32,20 @@ struct TriangulationGates {
 enum class Triangulated { kOk = 0, kParallax = 1, kBehind = 2, kReprojection = 3, kDegenerate = 4 };
 const char* TriangulatedName(Triangulated t);
 
+// What the gates saw (the epi.nerf trace records; NaN where a gate was not reached).
+struct TriangulationValues {
+  double cos_parallax = std::numeric_limits<double>::quiet_NaN();
+  Eigen::Vector3d X = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());  // world
+  double z0 = std::numeric_limits<double>::quiet_NaN(), z1 = z0;    // depth in each camera
+  double err0 = std::numeric_limits<double>::quiet_NaN(), err1 = err0;  // reprojection error (px)
+};
+
 // Linear triangulation (geometry/triangulation.h) of undistorted pixels x0, x1 seen from the
-// world-to-camera poses T_cw0, T_cw1 through the pinhole K, then the gates.
+// world-to-camera poses T_cw0, T_cw1 through the pinhole K, then the gates. `values` (optional)
+// receives what the gates tested.
 Triangulated TriangulateDlt(const Intrinsics& K, const SE3& T_cw0, const SE3& T_cw1, const Eigen::Vector2d& x0,
-                            const Eigen::Vector2d& x1, const TriangulationGates& gates, Eigen::Vector3d* X);
+                            const Eigen::Vector2d& x1, const TriangulationGates& gates, Eigen::Vector3d* X,
+                            TriangulationValues* values = nullptr);
 
 // Camera-to-world 4x4 of a world-to-camera pose, camera axes turned to OpenGL's (nerfstudio,
 // instant-ngp): columns 1 and 2 of the rotation negated.

@@ -48,6 +48,9 @@ void NerfModule::OnKeyFrame(const MapModuleContext& ctx) {
     k.un.push_back(f.keys_un[static_cast<size_t>(i)].pt);
     rows.push_back(i);
   }
+  k.features = rows;
+  k.frame_index = f.index;
+  trace_ = &ctx.trace;
   k.descriptors.create(static_cast<int>(rows.size()), f.descriptors.cols, f.descriptors.type());
   for (size_t r = 0; r < rows.size(); ++r) f.descriptors.row(rows[r]).copyTo(k.descriptors.row(static_cast<int>(r)));
   ctx.trace.FrameCount(name(), "static_keypoints", static_cast<int64_t>(rows.size()));
@@ -71,11 +74,22 @@ void NerfModule::Finish(const Map& map, RunEnd& end) {
   int64_t counts[5] = {0, 0, 0, 0, 0}, matches = 0, l_geo_terms = 0;
   double l_geo_sum = 0;
   const Keyframe* prev = nullptr;
+  int64_t prev_id = -1;
   SE3 prev_T_cw = SE3::Identity();
+  const bool full = trace_ != nullptr && trace_->full_enabled();
   for (const auto& [id, k] : keyframes_) {
     const KeyFrame* kf = map.kf(id);
     if (kf == nullptr || kf->bad) continue;
     const SE3 T_cw = kf->T_cw;
+    if (full) {  // the exported keyframe: its final pose (the matches' gates are recomputed with it)
+      std::vector<trace::NamedValue> in = {{"frame", double(k.frame_index)}, {"ref_kf", double(prev_id)}};
+      const Eigen::Matrix3d R = T_cw.linear();
+      const Eigen::Vector3d t = T_cw.translation();
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) in.push_back({"R" + std::to_string(r) + std::to_string(c), R(r, c)});
+      for (int r = 0; r < 3; ++r) in.push_back({"t" + std::to_string(r), t(r)});
+      trace_->ProbabilityUpdate(name(), trace::EntityKind::kKeyFrame, "kf" + std::to_string(id), in, 0.0, 0.0);
+    }
     const std::string image = "images/" + k.stamp_text + ".png", mask = "masks/" + k.stamp_text + ".png";
     if (!cv::imwrite(dir + "/" + image, k.rgb)) throw std::runtime_error("cannot write " + dir + "/" + image);
     cv::Mat keep(k.rgb.size(), CV_8U, cv::Scalar(255));
@@ -88,8 +102,23 @@ void NerfModule::Finish(const Map& map, RunEnd& end) {
         const cv::Point2f& a = k.un[static_cast<size_t>(m.i)];
         const cv::Point2f& b = prev->un[static_cast<size_t>(m.j)];
         Eigen::Vector3d X;
-        const Triangulated t = TriangulateDlt(camera_.Pinhole(), T_cw, prev_T_cw, {a.x, a.y}, {b.x, b.y}, gates_, &X);
+        TriangulationValues tv;
+        const Triangulated t =
+            TriangulateDlt(camera_.Pinhole(), T_cw, prev_T_cw, {a.x, a.y}, {b.x, b.y}, gates_, &X, &tv);
         ++counts[static_cast<int>(t)];
+        if (full)  // the match (MNN2 distances) and what each gate tested; outcome = Triangulated
+          trace_->ProbabilityUpdate(
+              name(), trace::EntityKind::kFeature,
+              "f" + std::to_string(k.frame_index) + "." + std::to_string(k.features[static_cast<size_t>(m.i)]),
+              {{"kf", double(id)}, {"ref_kf", double(prev_id)},
+               {"ref_feature", double(prev->features[static_cast<size_t>(m.j)])}, {"distance", m.distance},
+               {"second", m.second}, {"rho", match_.ratio},
+               {"tau", k.descriptors.type() == CV_8U ? double(match_.tau_bits) : match_.tau_float},
+               {"u", double(a.x)}, {"v", double(a.y)}, {"ref_u", double(b.x)}, {"ref_v", double(b.y)},
+               {"cos_parallax", tv.cos_parallax}, {"X", tv.X.x()}, {"Y", tv.X.y()}, {"Z", tv.X.z()},
+               {"z", tv.z0}, {"ref_z", tv.z1}, {"err_px", tv.err0}, {"ref_err_px", tv.err1},
+               {"outcome", double(static_cast<int>(t))}},
+              0.0, 0.0);
         if (t != Triangulated::kOk) continue;
         Eigen::Vector3d c;
         const cv::Point2f& raw = k.raw[static_cast<size_t>(m.i)];
@@ -111,6 +140,7 @@ void NerfModule::Finish(const Map& map, RunEnd& end) {
       }
     }
     prev = &k;
+    prev_id = id;
     prev_T_cw = T_cw;
   }
   dense::WritePly(dir + "/sparse_points.ply", cloud, dense::PlyFormat::kBinaryLittleEndian,

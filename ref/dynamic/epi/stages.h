@@ -117,7 +117,12 @@ class NerfModule : public MapModule {
     cv::Mat dynamic_mask;             // CV_8U 255 = dynamic (empty: none)
     std::vector<cv::Point2f> raw, un;  // keypoints no stage excluded (raw and undistorted pixels)
     cv::Mat descriptors;              // their rows
+    std::vector<int> features;        // their feature indices in the keyframe's frame (trace ids)
+    int frame_index = -1;
   };
+  // The run's trace (the writer outlives Finish); set by OnKeyFrame. epi.nerf traces its matches
+  // and gates at Finish (README "Trace").
+  trace::TraceWriter* trace_ = nullptr;
   std::shared_ptr<Blackboard> board_;
   TriangulationGates gates_;
   features::Mnn2Options match_;

@@ -67,6 +67,12 @@ void VoteStage::Run(StageContext& ctx) {
   const Frame* prev = ctx.previous;
   bool have_pose = false;
   int static_pairs = 0, pose_inliers = 0;
+  const bool full = tr.full_enabled();
+  // What epi.epipolar records per in-mask keypoint (README "Trace"): the pair (undistorted px).
+  std::vector<cv::Point2f> rec_prev, rec_cur;
+  std::vector<uint8_t> rec_tracked;
+  Eigen::Matrix3d pose_R = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d pose_t = Eigen::Vector3d::Zero();
   if (prev != nullptr && !prev->grey.empty() && !prev->depth_m.empty() && !candidates.empty() && !m.instance_ids.empty()) {
     std::vector<cv::Point2f> pts;
     for (int i : candidates) pts.push_back(f.keys[size_t(i)].pt);
@@ -91,8 +97,13 @@ void VoteStage::Run(StageContext& ctx) {
     static_pairs = int(pp.size());
     const geometry::RigidRansacResult pose = geometry::RigidRansac(pp, cam.fx, cam.fy, cam.cx, cam.cy, pose_, rng_);
     pose_inliers = pose.inlier_count;
+    if (full) {
+      rec_prev = prev_un, rec_cur = cur_un;
+      for (const geometry::LkPair& pr : pairs) rec_tracked.push_back(pr.tracked ? 1 : 0);
+    }
     if (pose.valid) {
       have_pose = true;
+      pose_R = pose.R, pose_t = pose.t;
       Eigen::Matrix3d K;
       K << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1;
       const Eigen::Matrix3d F = geometry::FundamentalFromPose(K, pose.R, pose.t);
@@ -100,24 +111,44 @@ void VoteStage::Run(StageContext& ctx) {
       for (size_t c = 0; c < pairs.size(); ++c) {
         if (instance_of[c] == 0 || !pairs[c].tracked) continue;
         distance[c] = geometry::EpipolarDistance(F, {prev_un[c].x, prev_un[c].y}, {cur_un[c].x, cur_un[c].y});
-        tr.ProbabilityUpdate("epi.epipolar", trace::EntityKind::kFeature, f.FeatureId(candidates[c]),
-                             {{"distance_px", distance[c]}, {"eps_px", vote_.epi_threshold_px},
-                              {"instance", double(instance_of[c])}},
-                             0.0, distance[c] > vote_.epi_threshold_px ? 1.0 : 0.0);
       }
     }
   }
-  tr.ProbabilityUpdate("epi.pose", trace::EntityKind::kFrame, fid,
-                       {{"static_pairs", double(static_pairs)}, {"inliers", double(pose_inliers)}}, 0.0,
-                       have_pose ? 1.0 : 0.0);
+  if (full) {
+    // epi.pose (p = 0: a pose is no evidence of motion): the static-region pose (R, t) = T_cur_prev
+    // F is built from (zero when no pose; t = 0 gives F = 0 and every distance +inf).
+    std::vector<trace::NamedValue> in = {{"static_pairs", double(static_pairs)}, {"inliers", double(pose_inliers)},
+                                         {"min_inliers", double(pose_.min_inliers)}, {"pose", have_pose ? 1.0 : 0.0}};
+    for (int r = 0; r < 3; ++r)
+      for (int k = 0; k < 3; ++k) in.push_back({"R" + std::to_string(r) + std::to_string(k), pose_R(r, k)});
+    for (int r = 0; r < 3; ++r) in.push_back({"t" + std::to_string(r), pose_t(r)});
+    tr.ProbabilityUpdate("epi.pose", trace::EntityKind::kFrame, fid, in, 0.0, 0.0);
+    // epi.epipolar: every in-mask keypoint (its instance: the vote and the exclusion are checked
+    // against it); the pair and the distance when it has one (after = 1 when D > eps).
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (size_t c = 0; c < candidates.size(); ++c) {
+      if (instance_of[c] == 0) continue;
+      const bool tracked = c < rec_tracked.size() && rec_tracked[c] != 0;
+      tr.ProbabilityUpdate("epi.epipolar", trace::EntityKind::kFeature, f.FeatureId(candidates[c]),
+                           {{"instance", double(instance_of[c])}, {"tracked", tracked ? 1.0 : 0.0},
+                            {"pose", have_pose ? 1.0 : 0.0},
+                            {"u_prev", tracked ? double(rec_prev[c].x) : nan},
+                            {"v_prev", tracked ? double(rec_prev[c].y) : nan},
+                            {"u_cur", tracked ? double(rec_cur[c].x) : nan},
+                            {"v_cur", tracked ? double(rec_cur[c].y) : nan},
+                            {"distance_px", distance[c]}, {"eps_px", vote_.epi_threshold_px}},
+                           0.0, distance[c] > vote_.epi_threshold_px ? 1.0 : 0.0);
+    }
+  }
   // d. votes (without a pose: no distance, every mask dynamic, E8).
   const std::map<int, MaskVote> votes = VoteMasks(instance_of, distance, m.instance_ids, vote_);
   for (const auto& [id, v] : votes) {
     const std::string iid = "i" + std::to_string(f.index) + "." + std::to_string(id);
-    tr.ProbabilityUpdate("epi.vote", trace::EntityKind::kInstanceMask, iid,
-                         {{"matched", double(v.matched)}, {"violating", double(v.violating)},
-                          {"vote_ratio", vote_.vote_ratio}},
-                         0.0, v.ratio);
+    if (full)  // after = the mask's state (1 dynamic); the ratio is an input
+      tr.ProbabilityUpdate("epi.vote", trace::EntityKind::kInstanceMask, iid,
+                           {{"matched", double(v.matched)}, {"violating", double(v.violating)}, {"ratio", v.ratio},
+                            {"vote_ratio", vote_.vote_ratio}},
+                           0.0, v.dynamic ? 1.0 : 0.0);
     tr.Decision(name(), trace::EntityKind::kInstanceMask, iid, !v.dynamic,
                 v.matched == 0 ? "no-matched-keypoint" : (v.dynamic ? "vote>ratio" : "vote<=ratio"));
   }

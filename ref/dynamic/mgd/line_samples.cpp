@@ -30,13 +30,24 @@ std::vector<std::array<uint8_t, 3>> LineSampleBoxFlags(const Frame& f, const Mgd
 void InitialiseLinePriors(StageContext& ctx, const MgdOptions& o, MgdState& s) {
   const size_t n = s.line_in_box.size();
   s.prev_line_p.assign(n, {-1.0, -1.0, -1.0});
+  trace::TraceWriter& tr = ctx.trace;
+  const bool full = tr.full_enabled();
+  const int frame = ctx.frame.view().index;
   for (size_t i = 0; i < n; ++i) {
     double p_max = 0;
+    const std::string id = full ? FrameStructure::LineId(frame, static_cast<int>(i)) : std::string();
     for (size_t k = 0; k < 3; ++k) {
       s.prev_line_p[i][k] = s.line_in_box[i][k] ? o.p_init_box : o.p_init_free;
       p_max = std::max(p_max, s.prev_line_p[i][k]);
+      if (full)  // each sample's first P (issue 32: the next frame's inheritance reads it)
+        tr.ProbabilityUpdate("mgd.boxes", trace::EntityKind::kLineSample, id,
+                             {{"sample", double(k)}, {"in_box", double(s.line_in_box[i][k])}}, s.prev_line_p[i][k],
+                             s.prev_line_p[i][k]);
     }
-    ctx.frame.SetLineWeight(static_cast<int>(i), LineWeight(p_max, o));
+    const double w = LineWeight(p_max, o);
+    if (full)  // the line: its largest sample and weight (no input "sample")
+      tr.ProbabilityUpdate("mgd.boxes", trace::EntityKind::kLineSample, id, {{"weight", w}}, p_max, p_max);
+    ctx.frame.SetLineWeight(static_cast<int>(i), w);
   }
 }
 
@@ -138,11 +149,17 @@ LineSampleNodes EvaluateLineSamples(StageContext& ctx, const MgdOptions& o, cons
                              p_prev, p_prev);
         tr.ProbabilityUpdate("mgd.P_LS", kind, id,
                              {{"sample", sample}, {"computable", double(cues.has_ls)}, {"d_px", dev.d_px},
-                              {"dtheta", dev.dtheta}, {"map_line", mld}},
+                              {"dtheta", dev.dtheta}, {"map_line", mld}, {"vbar_u", vbar ? vbar->x() : 0.0},
+                              {"vbar_v", vbar ? vbar->y() : 0.0}},
                              0.5, cues.has_ls ? cues.p_ls : 0.5);
+        tr.ProbabilityUpdate("mgd.P_pro", kind, id, {{"sample", sample}, {"computable", 0.0}}, 0.5, 0.5);
         tr.ProbabilityUpdate("mgd.P_mf", kind, id,
                              {{"sample", sample}, {"computable", double(cues.has_mf)}, {"d_px", d_mf}, {"map_line", mld}},
                              0.5, cues.has_mf ? cues.p_mf : 0.5);
+        tr.ProbabilityUpdate("mgd.fusion", kind, id,
+                             {{"sample", sample}, {"w_ls", o.use_ls ? o.w_ls : 0.0}, {"w_pro", o.use_pro ? o.w_pro : 0.0},
+                              {"w_mf", o.use_mf ? o.w_mf : 0.0}},
+                             0.5, S);
         tr.ProbabilityUpdate("mgd.smooth", kind, id, {{"sample", sample}, {"S", S}, {"a", o.a}, {"map_line", mld}},
                              p_prev, out.p_smooth[i][k]);
       }
@@ -173,11 +190,15 @@ int64_t DecideLines(StageContext& ctx, const MgdOptions& o, MgdState& s, const L
       const double p = p_diffused[3 * i + k];
       s.prev_line_p[i][k] = p;
       p_max = std::max(p_max, p);
-      if (full)
+      if (full) {  // the sample's 3-D point (camera frame): the diffusion is recomputable (issue 32)
+        const bool has_X = nodes.has_X[i][k];
+        const Eigen::Vector3d& X = nodes.X[i][k];
         tr.ProbabilityUpdate("mgd.diffuse", trace::EntityKind::kLineSample, id,
                              {{"sample", double(k)}, {"neighbours", double(neighbours[3 * i + k])},
-                              {"map_line", double(ml)}},
+                              {"map_line", double(ml)}, {"has_point", has_X ? 1.0 : 0.0}, {"x", has_X ? X.x() : 0.0},
+                              {"y", has_X ? X.y() : 0.0}, {"z", has_X ? X.z() : 0.0}},
                              nodes.p_smooth[i][k], p);
+      }
     }
     const double w = LineWeight(p_max, o);
     if (full) {  // the line's P: the largest of its samples (what the decision and the overlay use)

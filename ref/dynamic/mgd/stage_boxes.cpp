@@ -46,6 +46,12 @@ void BoxStage::Run(StageContext& ctx) {
       if (f.IsExcluded(fi)) continue;
       const double p = s.in_box[i] ? o.p_init_box : o.p_init_free;
       s.prev_p[i] = p;
+      // The first P of the feature (issue 32: what the next frame's inheritance reads), its weight.
+      if (ctx.trace.full_enabled())
+        ctx.trace.ProbabilityUpdate(name(), trace::EntityKind::kFeature, f.FeatureId(fi),
+                                    {{"in_box", double(s.in_box[i])},
+                                     {"weight", p > o.tau_dyn ? 0.0 : (o.weight == WeightForm::kOneMinusP ? 1.0 - p : f.Weight(fi))}},
+                                    p, p);
       if (p > o.tau_dyn) {
         ctx.frame.Exclude(fi, name(), "p-init>tau");
       } else if (o.weight == WeightForm::kOneMinusP) {
@@ -55,13 +61,28 @@ void BoxStage::Run(StageContext& ctx) {
     return;
   }
   if (o.initial_pose_out_of_box) {
+    // Weight carriers (issue 32): the weight 0 the initial pose's residuals carry, as input
+    // `weight` with p = 0 (no probability yet; mgd.probability's records follow).
+    const bool full = ctx.trace.full_enabled();
     for (size_t i = 0; i < f.N(); ++i)
-      if (s.in_box[i] && !f.IsExcluded(static_cast<int>(i))) ctx.frame.SetWeight(static_cast<int>(i), 0.0);
+      if (s.in_box[i] && !f.IsExcluded(static_cast<int>(i))) {
+        ctx.frame.SetWeight(static_cast<int>(i), 0.0);
+        if (full)
+          ctx.trace.ProbabilityUpdate(name(), trace::EntityKind::kFeature, f.FeatureId(static_cast<int>(i)),
+                                      {{"initial_pose", 1.0}, {"in_box", 1.0}, {"weight", 0.0}}, 0.0, 0.0);
+      }
     // Lines with any sample in a box leave the initial pose too (weight 0; mgd.probability sets
     // the real weight before the local-map search).
     for (size_t i = 0; i < s.line_in_box.size(); ++i)
-      if (s.line_in_box[i][0] || s.line_in_box[i][1] || s.line_in_box[i][2])
+      if (s.line_in_box[i][0] || s.line_in_box[i][1] || s.line_in_box[i][2]) {
         ctx.frame.SetLineWeight(static_cast<int>(i), 0.0);
+        if (full)
+          ctx.trace.ProbabilityUpdate(name(), trace::EntityKind::kLineSample,
+                                      FrameStructure::LineId(f.index, static_cast<int>(i)),
+                                      {{"initial_pose", 1.0}, {"in_box_s", double(s.line_in_box[i][0])}, {"in_box_m", double(s.line_in_box[i][1])},
+                                       {"in_box_e", double(s.line_in_box[i][2])}, {"weight", 0.0}},
+                                      0.0, 0.0);
+      }
   }
 }
 

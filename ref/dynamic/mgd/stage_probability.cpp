@@ -25,8 +25,8 @@ ProbabilityStage::ProbabilityStage(const MgdOptions& o, std::shared_ptr<MgdState
 namespace {
 
 // Mean image velocity of the out-of-box features with a previous-frame correspondence (spec E6).
-bool MeanBackgroundVelocity(const Frame& f, const Frame& prev, const std::vector<Correspondence>& corr,
-                            const std::vector<uint8_t>& in_box, Eigen::Vector2d* vbar) {
+int MeanBackgroundVelocity(const Frame& f, const Frame& prev, const std::vector<Correspondence>& corr,
+                           const std::vector<uint8_t>& in_box, Eigen::Vector2d* vbar) {
   Eigen::Vector2d sum = Eigen::Vector2d::Zero();
   int n = 0;
   for (size_t i = 0; i < f.N(); ++i) {
@@ -35,9 +35,28 @@ bool MeanBackgroundVelocity(const Frame& f, const Frame& prev, const std::vector
     sum += Eigen::Vector2d(d.x, d.y);
     ++n;
   }
-  if (n == 0) return false;
+  if (n == 0) return 0;
   *vbar = sum / n;
-  return true;
+  return n;  // features in the mean
+}
+
+// Per frame (issue 32): what the cues of every feature share, so `trace verify` can recompute
+// them: the previous frame, the mean background flow and the previous frame's pose as this stage
+// saw it (the tracker moves it with its reference keyframe, so it can differ from that frame's
+// final POSE record); F follows from it and this frame's initial POSE.
+void TraceFrameInputs(trace::TraceWriter& tr, const Frame& f, const Frame* prev, int n_vbar, const Eigen::Vector2d& vbar,
+                      bool has_T, bool has_F) {
+  std::vector<trace::NamedValue> in = {{"prev_frame", prev ? double(prev->index) : -1.0},
+                                       {"n_vbar", double(n_vbar)}, {"vbar_u", vbar.x()}, {"vbar_v", vbar.y()},
+                                       {"has_T", has_T ? 1.0 : 0.0}, {"has_F", has_F ? 1.0 : 0.0}};
+  if (has_T) {
+    static const char* kNames[12] = {"prev_T_cw[0]", "prev_T_cw[1]", "prev_T_cw[2]", "prev_T_cw[3]",
+                                     "prev_T_cw[4]", "prev_T_cw[5]", "prev_T_cw[6]", "prev_T_cw[7]",
+                                     "prev_T_cw[8]", "prev_T_cw[9]", "prev_T_cw[10]", "prev_T_cw[11]"};
+    const Eigen::Matrix4d M = prev->T_cw.matrix();
+    for (int i = 0; i < 12; ++i) in.push_back({kNames[i], M(i / 4, i % 4)});
+  }
+  tr.ProbabilityUpdate("mgd.frame", trace::EntityKind::kFrame, "f" + std::to_string(f.index), in, 0.0, 0.0);
 }
 
 }  // namespace
@@ -55,7 +74,8 @@ void ProbabilityStage::Run(StageContext& ctx) {
   if (prev != nullptr) corr = MatchPrevious(f, *prev, o.delta, o.match_radius_px, ctx.threads);
   const bool have_prev_p = prev != nullptr && s.prev_frame == prev->index && s.prev_p.size() == prev->N();
   Eigen::Vector2d vbar = Eigen::Vector2d::Zero();
-  const bool has_vbar = prev != nullptr && MeanBackgroundVelocity(f, *prev, corr, s.in_box, &vbar);
+  const int n_vbar = prev != nullptr ? MeanBackgroundVelocity(f, *prev, corr, s.in_box, &vbar) : 0;
+  const bool has_vbar = n_vbar > 0;
   // F of the initial relative pose (spec E9: the line in frame k is F x^{k-1}).
   bool has_F = false, has_T = false;
   Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
@@ -72,6 +92,7 @@ void ProbabilityStage::Run(StageContext& ctx) {
     }
   }
 
+  if (full) TraceFrameInputs(tr, f, prev, n_vbar, vbar, has_T, has_F);
   std::vector<double> p_smooth(n, -1.0);
   std::vector<Eigen::Vector3d> points(n, Eigen::Vector3d::Zero());
   std::vector<bool> has_point(n, false);
@@ -135,7 +156,8 @@ void ProbabilityStage::Run(StageContext& ctx) {
       tr.ProbabilityUpdate("mgd.P_pro", trace::EntityKind::kFeature, id,
                            {{"computable", double(c.has_pro)}, {"mean_forward_px", pro ? pro->mean_forward_px : 0.0},
                             {"mean_backward_px", pro ? pro->mean_backward_px : 0.0},
-                            {"covisible", pro ? double(pro->covisible) : 0.0}, {"kf", pro ? double(pro->kf) : -1.0}},
+                            {"covisible", pro ? double(pro->covisible) : 0.0}, {"kf", pro ? double(pro->kf) : -1.0},
+                            {"source_mp", pro ? double(pro->mp) : -1.0}},
                            0.5, c.has_pro ? c.p_pro : 0.5);
       tr.ProbabilityUpdate("mgd.P_mf", trace::EntityKind::kFeature, id,
                            {{"computable", double(c.has_mf)}, {"d_epi_px", d_epi}}, 0.5, c.has_mf ? c.p_mf : 0.5);
@@ -169,11 +191,22 @@ void ProbabilityStage::Run(StageContext& ctx) {
     next_prev[i] = p[i];
     const bool suppress = p[i] > o.tau_dyn;
     const double w = suppress ? 0.0 : KeptWeight(p[i], o);
-    if (full)
+    if (full) {  // the node's 3-D point (camera frame): the diffusion is recomputable (issue 32)
+      const Eigen::Vector3d& X = points[i];
       tr.ProbabilityUpdate("mgd.diffuse", trace::EntityKind::kFeature, f.FeatureId(fi),
-                           {{"neighbours", double(neighbours[i])}, {"weight", w}}, p_smooth[i], p[i]);
+                           {{"neighbours", double(neighbours[i])}, {"weight", w}, {"has_point", has_point[i] ? 1.0 : 0.0},
+                            {"x", X.x()}, {"y", X.y()}, {"z", X.z()}},
+                           p_smooth[i], p[i]);
+    }
     const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
-    if (mp >= 0 && ctx.map.mp(mp) != nullptr) ctx.frame.SetPointDynamicProbability(mp, p[i], name());
+    if (mp >= 0 && ctx.map.mp(mp) != nullptr) {
+      if (full) {  // the map point's P (what a later frame's inheritance reads), issue 32
+        const double old_p = ctx.map.mp(mp)->dynamic.p_dynamic;
+        tr.ProbabilityUpdate("mgd.map_point", trace::EntityKind::kMapPoint, "mp" + std::to_string(mp),
+                             {{"feature", double(i)}, {"had_p", old_p >= 0 ? 1.0 : 0.0}}, old_p >= 0 ? old_p : p[i], p[i]);
+      }
+      ctx.frame.SetPointDynamicProbability(mp, p[i], name());
+    }
     if (suppress) {
       ctx.frame.Exclude(fi, name(), "p>tau_dyn");
       ++suppressed;

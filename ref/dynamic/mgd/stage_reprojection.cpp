@@ -81,6 +81,7 @@ void ReprojectionStage::Run(StageContext& ctx) {
     cue.mean_backward_px = n_bwd > 0 ? bwd / n_bwd : cue.mean_forward_px;  // no depth: forward only
     cue.covisible = n_fwd;
     cue.kf = kf->id;
+    cue.mp = X->id;
     cue.p = ProbabilityPro(cue.mean_forward_px, cue.mean_backward_px, o);
     state_->pro[X->id] = cue;
     ++computed;

@@ -17,6 +17,7 @@ struct ProCue {
   double mean_forward_px = 0, mean_backward_px = 0, p = 0.5;
   int covisible = 0;  // K_n: covisible keyframes that observe the point
   int64_t kf = -1;
+  int64_t mp = -1;  // the map point it was computed for (a replaced point's cue moves to its replacement)
 };
 
 struct MgdState {

@@ -85,9 +85,16 @@ void MaskStage::Run(StageContext& ctx) {
   const int64_t tests = static_cast<int64_t>(classes.tests.size());
   const int64_t non_prior = static_cast<int64_t>(classes.non_prior_dynamic.size());
   for (const DetectedInstance& inst : det.instances) {
-    if (!dynamic_ids.count(inst.id) && !static_ids.count(inst.id)) continue;
     const bool dyn = dynamic_ids.count(inst.id) > 0;
-    tr.Decision(name(), trace::EntityKind::kInstanceMask, "i" + std::to_string(f.index) + "." + std::to_string(inst.id),
+    const std::string id = "i" + std::to_string(f.index) + "." + std::to_string(inst.id);
+    // What the class partition reads (issue 32: `trace verify` recomputes it): the detector's
+    // class and confidence, for every detected instance; p(dynamic) 1 for an instance of M_dyn.
+    if (tr.full_enabled())
+      tr.ProbabilityUpdate(name(), trace::EntityKind::kInstanceMask, id,
+                           {{"class_id", static_cast<double>(inst.class_id)}, {"confidence", inst.confidence}}, 0.0,
+                           dyn ? 1.0 : 0.0);
+    if (!dyn && !static_ids.count(inst.id)) continue;
+    tr.Decision(name(), trace::EntityKind::kInstanceMask, id,
                 !dyn, prior_dynamic.count(inst.id) ? "prior-dynamic:" + inst.class_name
                                                     : (dyn ? "non-prior-dynamic:" + inst.class_name : "static:" + inst.class_name));
   }
@@ -103,7 +110,13 @@ void MaskStage::Run(StageContext& ctx) {
   if (o_.reject_keypoints) {
     for (size_t i = 0; i < f.N(); ++i) {
       const int fi = static_cast<int>(i);
-      if (f.IsExcluded(fi) || !b.dynamic.InMask(f.keys[i].pt.x, f.keys[i].pt.y)) continue;
+      if (f.IsExcluded(fi)) continue;
+      const int inst = b.dynamic.InstanceAt(f.keys[i].pt.x, f.keys[i].pt.y);
+      if (inst == 0) continue;  // DynamicMask::InMask
+      // The mask look-up the removal rests on (issue 32): the instance of M_dyn at the keypoint.
+      if (tr.full_enabled())
+        tr.ProbabilityUpdate(name(), trace::EntityKind::kFeature, f.FeatureId(fi), {{"instance", static_cast<double>(inst)}},
+                             0.0, 1.0);
       ctx.frame.Exclude(fi, name(), "dynamic-mask");
       ++removed;
     }

@@ -14,7 +14,9 @@
 namespace dynref::sgdo {
 namespace {
 
-// Trace code of LkPair::prune_reason: 0 usable, 1 lk-failed, 2 border, 3 patch-sad, 4 in-mask.
+// Trace code of LkPair::prune_reason: 0 usable, 1 lk-failed, 2 border, 3 patch-sad, 4 in-mask;
+// 5 = no previous frame image (nothing tracked, README "Trace").
+constexpr int kPruneNoPrevious = 5;
 int PruneCode(const std::string& reason) {
   if (reason.empty()) return 0;
   if (reason == "lk-failed") return 1;
@@ -108,13 +110,24 @@ void CoarseStage::Run(StageContext& ctx) {
 
   // d. Epipolar distance per tracked keypoint, traced for every candidate (also when there is
   // none: why). F itself is traced per frame.
-  if (!pairs.empty())
+  // (Also on a frame without a previous image: every candidate then has a record too, issue 32.)
+  const bool full = tr.full_enabled();
+  if (full && !candidates.empty())
     tr.ProbabilityUpdate("sgdo.F", trace::EntityKind::kFrame, "f" + std::to_string(f.index),
                          {{"F00", F.F(0, 0)}, {"F01", F.F(0, 1)}, {"F02", F.F(0, 2)}, {"F10", F.F(1, 0)},
                           {"F11", F.F(1, 1)}, {"F12", F.F(1, 2)}, {"F20", F.F(2, 0)}, {"F21", F.F(2, 1)},
                           {"F22", F.F(2, 2)}, {"usable", static_cast<double>(usable.size())},
                           {"inliers", static_cast<double>(F.inlier_count)}},
                          0.0, F.valid ? 1.0 : 0.0);
+  if (full && pairs.empty())
+    for (int i : candidates)
+      tr.ProbabilityUpdate("sgdo.epipolar", trace::EntityKind::kFeature, f.FeatureId(i),
+                           {{"u_prev", 0.0}, {"v_prev", 0.0}, {"u_cur", f.keys[i].pt.x}, {"v_cur", f.keys[i].pt.y},
+                            {"D_px", 0.0}, {"th_epi_px", coarse_.epipolar_threshold_px},
+                            {"instance", static_cast<double>(inputs[i].instance)}, {"used_for_F", 0.0},
+                            {"F_inlier", 0.0}, {"patch_sad", 0.0}, {"tracked", 0.0}, {"F_valid", 0.0},
+                            {"prune", static_cast<double>(kPruneNoPrevious)}, {"tested", 0.0}},
+                           0.0, 0.5);
   int64_t tracked = 0;
   for (size_t c = 0; c < pairs.size(); ++c) {
     const geometry::LkPair& pr = pairs[c];
@@ -132,22 +145,24 @@ void CoarseStage::Run(StageContext& ctx) {
     }
     const bool dyn = test && in.epipolar_distance_px > coarse_.epipolar_threshold_px;
     // p(dynamic): 1 geometric-dynamic, 0 static, 0.5 not tested (no pair, pruned flow, no F).
-    tr.ProbabilityUpdate("sgdo.epipolar", trace::EntityKind::kFeature, f.FeatureId(i),
-                         {{"u_prev", pr.p_prev.x}, {"v_prev", pr.p_prev.y}, {"u_cur", pr.p_cur.x},
-                          {"v_cur", pr.p_cur.y}, {"D_px", in.epipolar_distance_px},
-                          {"th_epi_px", coarse_.epipolar_threshold_px},
-                          {"instance", static_cast<double>(in.instance)},
-                          {"used_for_F", pr.usable_for_F() ? 1.0 : 0.0},
-                          {"F_inlier", f_inlier[c] ? 1.0 : 0.0}, {"patch_sad", pr.patch_sad},
-                          {"tracked", pr.tracked ? 1.0 : 0.0}, {"F_valid", F.valid ? 1.0 : 0.0},
-                          {"prune", static_cast<double>(PruneCode(pr.prune_reason))}, {"tested", test ? 1.0 : 0.0}},
-                         0.0, test ? (dyn ? 1.0 : 0.0) : 0.5);
+    if (full)
+      tr.ProbabilityUpdate("sgdo.epipolar", trace::EntityKind::kFeature, f.FeatureId(i),
+                           {{"u_prev", pr.p_prev.x}, {"v_prev", pr.p_prev.y}, {"u_cur", pr.p_cur.x},
+                            {"v_cur", pr.p_cur.y}, {"D_px", in.epipolar_distance_px},
+                            {"th_epi_px", coarse_.epipolar_threshold_px},
+                            {"instance", static_cast<double>(in.instance)},
+                            {"used_for_F", pr.usable_for_F() ? 1.0 : 0.0},
+                            {"F_inlier", f_inlier[c] ? 1.0 : 0.0}, {"patch_sad", pr.patch_sad},
+                            {"tracked", pr.tracked ? 1.0 : 0.0}, {"F_valid", F.valid ? 1.0 : 0.0},
+                            {"prune", static_cast<double>(PruneCode(pr.prune_reason))}, {"tested", test ? 1.0 : 0.0}},
+                           0.0, test ? (dyn ? 1.0 : 0.0) : 0.5);
   }
   // e. Combination and decisions (candidates only; already excluded keys are left alone).
   std::vector<CoarseInput> cand_inputs;
   for (int i : candidates) cand_inputs.push_back(inputs[i]);
   const CoarseResult res = CombineCoarse(cand_inputs, coarse_);
   for (const auto& v : res.votes) {
+    if (!full) break;
     const std::string id = "i" + std::to_string(f.index) + "." + std::to_string(v.instance);
     tr.ProbabilityUpdate("sgdo.vote", trace::EntityKind::kInstanceMask, id,
                          {{"dynamic", static_cast<double>(v.dynamic)},

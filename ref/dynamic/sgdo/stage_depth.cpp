@@ -39,6 +39,19 @@ void DepthStage::Run(StageContext& ctx) {
   const Intrinsics K = ctx.camera.Pinhole();
   const Eigen::Isometry3d T_kc = kf->T_cw * f.T_cw.inverse();
   const double kf_id = static_cast<double>(kf->id);
+  const bool full = tr.full_enabled();
+  if (full) {
+    // The keyframe's pose at the test (issue 32): with the frame's POSE "initial" it gives T_kc,
+    // which `trace verify` needs to recompute Eq. (8)-(9); keyframe poses are in no other record.
+    // Rows 0..2 of T_kw (keyframe_from_world) row-major; p = 0: a geometry carrier.
+    static const char* const kNames[12] = {"T_kw[0]", "T_kw[1]", "T_kw[2]", "T_kw[3]", "T_kw[4]", "T_kw[5]",
+                                           "T_kw[6]", "T_kw[7]", "T_kw[8]", "T_kw[9]", "T_kw[10]", "T_kw[11]"};
+    std::vector<trace::NamedValue> pose;
+    const Eigen::Matrix4d T_kw = kf->T_cw.matrix();
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 4; ++col) pose.push_back({kNames[4 * r + col], T_kw(r, col)});
+    tr.ProbabilityUpdate("sgdo.depth.kf", trace::EntityKind::kKeyFrame, "kf" + std::to_string(kf->id), pose, 0.0, 0.0);
+  }
   int64_t tested = 0, rejected = 0, skipped = 0;
   double weight_sum = 0;
   for (int i = 0; i < static_cast<int>(f.N()); ++i) {
@@ -47,14 +60,17 @@ void DepthStage::Run(StageContext& ctx) {
     const DepthCheck c = CheckDepthConsistency(p.x, p.y, f.depth[i], K, T_kc, kf->frame.depth_m, &ctx.camera);
     const double omega = c.tested ? StaticWeight(c.eps, options_.lambda) : 1.0;
     const bool reject = reject_ && c.tested && std::abs(c.eps) > options_.eta;
-    tr.ProbabilityUpdate(name(), trace::EntityKind::kFeature, f.FeatureId(i),
-                         {{"kf", kf_id}, {"depth_i_m", f.depth[i]}, {"u_k", c.u_k}, {"v_k", c.v_k},
-                          {"z_k", c.z_k}, {"d_k", c.d_k}, {"eps", c.eps}, {"eta", options_.eta},
-                          {"lambda", options_.lambda}, {"tested", c.tested ? 1.0 : 0.0},
-                          {"omega", omega}},
-                         // Trace convention p(dynamic) (overlay colour): 1 - static weight, and 1
-                         // for a rejected point whatever the weight switch (issue 21).
-                         1.0 - f.Weight(i), reject ? 1.0 : 1.0 - (weight_ ? omega : f.Weight(i)));
+    // `weight`: the static weight the feature carries into pose optimisation after this stage
+    // (omega when weights are on and the point is kept, else its previous weight).
+    if (full)
+      tr.ProbabilityUpdate(name(), trace::EntityKind::kFeature, f.FeatureId(i),
+                           {{"kf", kf_id}, {"depth_i_m", f.depth[i]}, {"u_k", c.u_k}, {"v_k", c.v_k},
+                            {"z_k", c.z_k}, {"d_k", c.d_k}, {"eps", c.eps}, {"eta", options_.eta},
+                            {"lambda", options_.lambda}, {"tested", c.tested ? 1.0 : 0.0},
+                            {"omega", omega}, {"weight", weight_ && !reject ? omega : f.Weight(i)}},
+                           // Trace convention p(dynamic) (overlay colour): 1 - static weight, and 1
+                           // for a rejected point whatever the weight switch (issue 21).
+                           1.0 - f.Weight(i), reject ? 1.0 : 1.0 - (weight_ ? omega : f.Weight(i)));
     if (c.tested) ++tested; else ++skipped;
     if (reject) {
       ctx.frame.Exclude(i, name(), "depth-eps");

@@ -43,6 +43,12 @@ void MaskStage::Run(StageContext& ctx) {
   for (const DetectedInstance& inst : det.instances) {
     const std::string id = "i" + std::to_string(f.index) + "." + std::to_string(inst.id);
     const bool dynamic = std::find(m.instance_ids.begin(), m.instance_ids.end(), inst.id) != m.instance_ids.end();
+    // What the decision is made from (issue 32: `trace verify` recomputes it): the detector's
+    // class and confidence; p(dynamic) 1 for an instance of M.
+    if (tr.full_enabled())
+      tr.ProbabilityUpdate(name(), trace::EntityKind::kInstanceMask, id,
+                           {{"class_id", static_cast<double>(inst.class_id)}, {"confidence", inst.confidence}}, 0.0,
+                           dynamic ? 1.0 : 0.0);
     tr.Decision(name(), trace::EntityKind::kInstanceMask, id, !dynamic,
                 dynamic ? "prior-dynamic:" + inst.class_name
                         : (inst.confidence < options_.min_confidence ? "low-confidence" : "static-class"));
@@ -56,6 +62,11 @@ void MaskStage::Run(StageContext& ctx) {
     if (inst != 0) ++in_mask;
     if (!reject_in_mask_) continue;
     if (f.IsExcluded(static_cast<int>(i))) continue;
+    // The mask look-up the decision rests on (issue 32): the dynamic instance covering the
+    // keypoint (0 = outside M); p(dynamic) 1 inside M.
+    if (tr.full_enabled())
+      tr.ProbabilityUpdate(name(), trace::EntityKind::kFeature, f.FeatureId(static_cast<int>(i)),
+                           {{"instance", static_cast<double>(inst)}}, 0.0, inst != 0 ? 1.0 : 0.0);
     if (inst != 0) {
       ctx.frame.Exclude(static_cast<int>(i), name(), "mask");
       ++rejected;

@@ -1,4 +1,4 @@
-// dynref_trace.hpp -- a dependency-free, single-header writer of dynref trace schema 2
+// dynref_trace.hpp -- a dependency-free, single-header writer of dynref trace schema 3
 // (ref/trace/README.md), for code outside dynref: an ORB-SLAM3 fork, a GPU pipeline, anything in
 // C++17 that wants its per-feature probabilities, residuals and decisions diffed against the
 // dynref oracle with `dynref diff ORACLE_RUN your.dtr`. Standard library only; copy this file.
@@ -49,6 +49,8 @@ inline uint32_t Crc32cUpdate(uint32_t crc, const void* data, size_t n) {
   return ~c;
 }
 
+constexpr uint32_t kSchemaVersion = 3;  // 3: OBS carries associated_map_point_id
+
 class Writer {
  public:
   Writer(const std::string& path, Level level, const std::vector<std::pair<std::string, std::string>>& header)
@@ -56,7 +58,7 @@ class Writer {
     file_ = std::fopen(tmp_.c_str(), "wb");
     if (file_ == nullptr) throw std::runtime_error("dynref_trace: cannot open " + tmp_);
     buf_.append("DYNTRACE", 8);
-    U32(2);  // schema version
+    U32(kSchemaVersion);
     buf_.push_back(char(level));
     buf_.append(3, '\0');
     Varint(header.size());
@@ -99,15 +101,23 @@ class Writer {
     Svarint(value);
   }
   // Full level only (ignored at kFrames), as every record below.
-  void Obs(int64_t feature_index, int64_t map_point_id, double u, double v, double depth_m, int64_t octave,
-           uint64_t descriptor_hash) {
+  // map_point_id: final inlier association (-1 none); associated_map_point_id: the map point the
+  // feature was associated with when the stages saw it, also when excluded or an outlier (-1 never).
+  void Obs(int64_t feature_index, int64_t map_point_id, int64_t associated_map_point_id, double u, double v,
+           double depth_m, int64_t octave, uint64_t descriptor_hash) {
     if (level_ != Level::kFull) return;
     Tag(0x05);
     Svarint(feature_index);
     Svarint(map_point_id);
+    Svarint(associated_map_point_id);
     F64(u), F64(v), F64(depth_m);
     Svarint(octave);
     U64(descriptor_hash);
+  }
+  // Without a separate association (what schema 2 wrote): associated = map_point_id.
+  void Obs(int64_t feature_index, int64_t map_point_id, double u, double v, double depth_m, int64_t octave,
+           uint64_t descriptor_hash) {
+    Obs(feature_index, map_point_id, map_point_id, u, v, depth_m, octave, descriptor_hash);
   }
   // before/after: probability that the entity is dynamic.
   void Prob(const std::string& stage, Kind kind, const std::string& entity,

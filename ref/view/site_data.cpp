@@ -1,0 +1,172 @@
+#include "view/site_data.h"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "core/atomic_file.h"
+#include "core/error.h"
+#include "eval/trajectory_eval.h"
+#include "io/trajectory.h"
+
+namespace dynref::view {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// A float for JSON: non-finite values as the strings the trace dump uses.
+json Number(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  return v;
+}
+
+// Record schemas: (type, stage, kind, field names, exact flags) -> id, in order of first use.
+class SchemaTable {
+ public:
+  int Id(const trace::FlatRecord& r) {
+    std::string key = r.type + "|" + r.stage + "|" + r.kind;
+    for (const trace::FlatField& f : r.fields) key += "|" + f.name + (f.exact ? "!" : "");
+    auto it = ids_.find(key);
+    if (it != ids_.end()) return it->second;
+    json fields = json::array(), exact = json::array();
+    for (const trace::FlatField& f : r.fields) fields.push_back(f.name), exact.push_back(f.exact ? 1 : 0);
+    const int id = static_cast<int>(list_.size());
+    list_.push_back({r.type, r.stage, r.kind, fields, exact});
+    ids_.emplace(key, id);
+    return id;
+  }
+  const json& list() const { return list_; }
+
+ private:
+  std::map<std::string, int> ids_;
+  json list_ = json::array();
+};
+
+// Landmark ids a record links to a frame: its own mp/kf/ml/mpl entity (also "mp3@kf2"), and the
+// map point an OBS names (associated, else final).
+void LandmarkLinks(const trace::FlatRecord& r, std::vector<std::string>* out) {
+  const std::string base = r.entity.substr(0, r.entity.find('@'));
+  for (const char* p : {"mpl", "mp", "kf", "ml"}) {
+    const std::string prefix(p);
+    if (base.size() > prefix.size() && base.compare(0, prefix.size(), prefix) == 0 &&
+        base.find('.') == std::string::npos) {
+      out->push_back(base);
+      break;
+    }
+  }
+  for (const trace::FlatField& f : r.fields) {
+    if (r.type == "obs" && (f.name == "map_point_id" || f.name == "associated_map_point_id") && f.text != "-1")
+      out->push_back("mp" + f.text);
+    // Frame lines / planes of a map line / plane (backbone structure records, input map_line / map_plane).
+    if (r.type == "prob" && (f.name == "in.map_line" || f.name == "in.map_plane") && f.number >= 0)
+      out->push_back((f.name == "in.map_line" ? "ml" : "mpl") + std::to_string(static_cast<int64_t>(f.number)));
+  }
+}
+
+// `call(a, b, ...);` with each argument as JSON.
+std::string Script(const std::string& call, const json& args) {
+  std::string text = call + "(";
+  for (size_t i = 0; i < args.size(); ++i) text += (i ? "," : "") + args[i].dump();
+  return text + ");\n";
+}
+
+// Trajectory against ground truth (synthetic or TUM folder): aligned positions and ATE per pose.
+json TrajectoryData(const std::string& run_dir, const json& run_json) {
+  json t = json::object();
+  const std::string est_path = run_dir + "/trajectory.txt";
+  const std::string seq = run_json.value("sequence", "");
+  const std::string gt_path = seq + "/groundtruth.txt";
+  if (!fs::exists(est_path) || seq.empty() || !fs::exists(gt_path)) return t;
+  try {
+    const TumTrajectory gt = ReadTumTrajectory(gt_path), est = ReadTumTrajectory(est_path);
+    const AteResult ate = ComputeAte(gt, est, AteOptions{});
+    json g = json::array(), e = json::array(), err = json::array();
+    for (size_t m = 0; m < ate.matches.size(); ++m) {
+      const Eigen::Vector3d pg = gt.poses[ate.matches[m].first].T_wc.translation();
+      const Eigen::Vector3d pe = ate.alignment.Apply(est.poses[ate.matches[m].second].T_wc.translation());
+      const double stamp = est.poses[ate.matches[m].second].stamp;
+      g.push_back({pg.x(), pg.y(), pg.z()});
+      e.push_back({pe.x(), pe.y(), pe.z()});
+      err.push_back({stamp, ate.errors_m[m]});
+    }
+    t = {{"gt", g}, {"est", e}, {"ate", err}, {"rmse_m", ate.stats.rmse}};
+  } catch (const std::exception& ex) {
+    t = {{"error", ex.what()}};
+  }
+  return t;
+}
+
+}  // namespace
+
+RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_dir,
+                     const std::map<int64_t, std::string>& image_for_frame, const std::string& divergence_json) {
+  RunSite site;
+  site.run_dir = run_dir;
+  site.label = fs::path(run_dir).filename().string();
+  if (site.label.empty()) site.label = fs::path(run_dir).parent_path().filename().string();
+  trace::TraceReader reader(trace::ResolveTracePath(run_dir));
+  json run_json = json::object();
+  if (fs::exists(run_dir + "/run.json")) {
+    std::ifstream in(run_dir + "/run.json");
+    run_json = json::parse(in, nullptr, false);
+    if (run_json.is_discarded()) throw InputError(run_dir + "/run.json", "not valid JSON");
+  }
+  const std::string dir = out_dir + "/data/r" + std::to_string(k);
+  fs::create_directories(dir);
+  SchemaTable schemas;
+  std::map<std::string, std::vector<int64_t>> links;  // landmark -> frames
+  std::map<std::string, json> counts;                 // "stage.name" -> [[frame, value]...]
+  json frames = json::array(), stamps = json::array();
+  for (size_t g = 0; g < reader.groups().size(); ++g) {
+    const std::vector<trace::Record> raw = reader.ReadGroup(g);
+    const std::vector<trace::FlatRecord> recs = trace::FlattenGroup(raw);
+    const int64_t frame = reader.groups()[g].frame;
+    double stamp = 0;
+    json rows = json::array();
+    for (const trace::FlatRecord& r : recs) {
+      if (r.type == "frame") stamp = r.fields.empty() ? 0 : r.fields[0].number;
+      if (r.type == "count") counts[r.stage + "." + r.entity].push_back({frame, std::stoll(r.fields.at(0).text)});
+      std::vector<std::string> lm;
+      LandmarkLinks(r, &lm);
+      for (const std::string& id : lm) {
+        std::vector<int64_t>& f = links[id];
+        if (f.empty() || f.back() != frame) f.push_back(frame);
+      }
+      json row = {schemas.Id(r), r.entity, r.occurrence};
+      for (const trace::FlatField& f : r.fields) row.push_back(f.exact ? json(f.text) : Number(f.number));
+      rows.push_back(std::move(row));
+    }
+    auto img = image_for_frame.find(frame);
+    const json data = {{"frame", frame}, {"stamp", Number(stamp)},
+                       {"image", img == image_for_frame.end() ? "" : img->second}, {"records", rows}};
+    const std::string text = Script("VIEW.frame", json::array({k, frame, data}));
+    AtomicWriteFile(dir + "/f" + std::to_string(frame) + ".js", text);
+    site.data_bytes += text.size();
+    site.frames.push_back(frame);
+    frames.push_back(frame);
+    stamps.push_back(Number(stamp));
+  }
+  json header = json::object();
+  for (const auto& [key, value] : reader.header())
+    if (key != "config_json") header[key] = value;
+  json link_json = json::object();
+  for (const auto& [id, f] : links) link_json[id] = f;
+  json count_json = json::object();
+  for (auto& [name, series] : counts) count_json[name] = series;
+  const json summary = {{"label", site.label},        {"run_dir", fs::absolute(run_dir).string()},
+                        {"header", header},            {"end_state", reader.end_state()},
+                        {"run", run_json},             {"schemas", schemas.list()},
+                        {"frames", frames},            {"stamps", stamps},
+                        {"links", link_json},          {"counts", count_json},
+                        {"trajectory", TrajectoryData(run_dir, run_json)},
+                        {"divergence", divergence_json.empty() ? json() : json::parse(divergence_json)}};
+  const std::string text = Script("VIEW.summary", json::array({k, summary}));
+  AtomicWriteFile(dir + "/summary.js", text);
+  site.data_bytes += text.size();
+  return site;
+}
+
+}  // namespace dynref::view

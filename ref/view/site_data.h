@@ -1,0 +1,29 @@
+// Data files of `dynref view` (README.md): one JavaScript file per run summary and per frame,
+// each a call `VIEW.summary(run, {...})` / `VIEW.frame(run, frame, {...})`, so that the page works
+// from file:// (browsers refuse fetch() of local JSON, not <script src>). Records are the canonical
+// flat view of ref/trace (the rows `dynref trace feature` prints), stored once per frame with a
+// per-run table of record schemas (type, stage, kind, field names); floats keep full precision.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "trace/trace_reader.h"
+
+namespace dynref::view {
+
+struct RunSite {
+  std::string run_dir;     // the run folder given on the command line
+  std::string label;       // shown in the page (folder name)
+  std::vector<int64_t> frames;      // frame groups written (ascending)
+  uint64_t data_bytes = 0;          // bytes of the data files written
+};
+
+// Writes OUT/data/r<k>/summary.js and OUT/data/r<k>/f<frame>.js for every frame group of the
+// run's trace. `image_for_frame` names each frame's overlay image relative to OUT ("" none).
+// `divergence` (may be empty) is the first divergence against run 0, as `dynref diff` finds it.
+RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_dir,
+                     const std::map<int64_t, std::string>& image_for_frame, const std::string& divergence_json);
+
+}  // namespace dynref::view
