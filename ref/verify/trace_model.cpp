@@ -2,6 +2,8 @@
 
 #include <cstdlib>
 
+#include "io/coco_classes.h"
+
 namespace dynref::verify {
 namespace {
 
@@ -85,6 +87,21 @@ bool TraceModel::StageParam(const std::string& stage, const std::string& key, st
     return true;
   }
   return false;
+}
+
+std::set<int> TraceModel::StageClassIds(const std::string& stage, const std::string& key) const {
+  std::set<int> ids;
+  if (!config_.is_object() || !config_.contains("stages")) return ids;
+  for (const nlohmann::json& s : config_.at("stages")) {
+    if (s.value("name", "") != stage || !s.contains("params") || !s.at("params").contains(key)) continue;
+    const nlohmann::json& p = s.at("params").at(key);
+    const nlohmann::json& v = p.is_object() && p.contains("value") ? p.at("value") : p;
+    for (const nlohmann::json& e : v) {
+      if (e.is_number_integer()) ids.insert(e.get<int>());
+      else if (e.is_string()) ids.insert(CocoClassId(e.get<std::string>()));
+    }
+  }
+  return ids;
 }
 
 std::optional<double> TraceModel::StageNumber(const std::string& stage, const std::string& key) const {

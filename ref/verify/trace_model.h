@@ -7,6 +7,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,9 @@ class TraceModel {
   std::optional<double> StageNumber(const std::string& stage, const std::string& key) const;
   std::optional<double> BackboneNumber(const std::string& key) const;
   bool HasStage(const std::string& stage) const;
+  // A stage's list parameter of COCO classes (names with spaces or '_', or ids) as class ids
+  // (io/coco_classes.h: the detection format's table); empty when absent.
+  std::set<int> StageClassIds(const std::string& stage, const std::string& key) const;
 
   // Position of frame `frame` in frames() (the last group of that number), nullopt if absent.
   std::optional<size_t> FramePos(int64_t frame) const;

@@ -8,7 +8,7 @@
 #include <functional>
 #include <set>
 
-#include "verify/coco_names.h"
+#include "io/coco_classes.h"
 #include "verify/verifier.h"
 
 namespace dynref::verify {
@@ -57,22 +57,7 @@ std::string Param(const TraceModel& t, const std::string& key) {
   return v;
 }
 
-std::set<int> PriorDynamicIds(const TraceModel& t) {
-  std::set<int> ids;
-  const nlohmann::json& cfg = t.config();
-  if (!cfg.is_object() || !cfg.contains("stages")) return ids;
-  for (const nlohmann::json& s : cfg.at("stages")) {
-    if (s.value("name", "") != kMask || !s.contains("params") || !s.at("params").contains("prior_dynamic_classes"))
-      continue;
-    const nlohmann::json& p = s.at("params").at("prior_dynamic_classes");
-    const nlohmann::json& v = p.is_object() && p.contains("value") ? p.at("value") : p;
-    for (const nlohmann::json& e : v) {
-      if (e.is_number_integer()) ids.insert(e.get<int>());
-      else if (e.is_string()) ids.insert(CocoId(e.get<std::string>()));
-    }
-  }
-  return ids;
-}
+std::set<int> PriorDynamicIds(const TraceModel& t) { return t.StageClassIds(kMask, "prior_dynamic_classes"); }
 
 // Table 1 partition of one instance from its semantic.mask instance record.
 struct Partition {
@@ -178,7 +163,7 @@ void VerifyMaskDecision(const TraceModel& t, RecordRef at, Check& c) {
     c.Same("classified (conf >= min_confidence, a class)", true, part.classified);
     const bool non_prior = !part.prior_dynamic && NonPriorDynamic(t, at.frame_pos, r.entity);
     const bool dyn = part.prior_dynamic || non_prior;
-    const std::string name = CocoName(part.class_id);
+    const std::string name = CocoClassName(part.class_id);
     c.Same("kept", !dyn, r.kept);
     c.Same("reason",
            part.prior_dynamic ? "prior-dynamic:" + name : non_prior ? "non-prior-dynamic:" + name : "static:" + name,

@@ -16,7 +16,7 @@
 #include <limits>
 #include <set>
 
-#include "verify/coco_names.h"
+#include "io/coco_classes.h"
 #include "verify/verifier.h"
 
 namespace dynref::verify {
@@ -102,22 +102,7 @@ Distortion ReadDistortion(const TraceModel& t) {
 // ---------------------------------------------------------------- sgdo.mask (Sec. 3.2)
 
 // COCO ids of the config's sgdo.mask dynamic_classes (names or ids).
-std::set<int> DynamicClassIds(const TraceModel& t) {
-  std::set<int> ids;
-  const nlohmann::json& cfg = t.config();
-  if (!cfg.is_object() || !cfg.contains("stages")) return ids;
-  for (const nlohmann::json& s : cfg.at("stages")) {
-    if (s.value("name", "") != "sgdo.mask" || !s.contains("params") || !s.at("params").contains("dynamic_classes"))
-      continue;
-    const nlohmann::json& p = s.at("params").at("dynamic_classes");
-    const nlohmann::json& v = p.is_object() && p.contains("value") ? p.at("value") : p;
-    for (const nlohmann::json& e : v) {
-      if (e.is_number_integer()) ids.insert(e.get<int>());
-      else if (e.is_string()) ids.insert(CocoId(e.get<std::string>()));
-    }
-  }
-  return ids;
-}
+std::set<int> DynamicClassIds(const TraceModel& t) { return t.StageClassIds("sgdo.mask", "dynamic_classes"); }
 
 // Whether instance `inst` of the frame is in M (its sgdo.mask instance record recomputed).
 struct MaskInstance {
@@ -170,7 +155,7 @@ void VerifyMaskDecision(const TraceModel& t, RecordRef at, Check& c) {
     const double min_conf = *t.StageNumber("sgdo.mask", "min_confidence");
     c.Same("kept", !m.dynamic, r.kept);
     c.Same("reason",
-           m.dynamic ? "prior-dynamic:" + std::string(CocoName(static_cast<int>(m.class_id)))
+           m.dynamic ? "prior-dynamic:" + std::string(CocoClassName(static_cast<int>(m.class_id)))
                      : (m.confidence < min_conf ? "low-confidence" : "static-class"),
            r.reason);
     return;

@@ -8,6 +8,7 @@
 
 #include "core/rng.h"
 #include "test_support.h"
+#include "verify_test_support.h"
 #include "trace/trace_reader.h"
 #include "trace/trace_writer.h"
 #include "verify/verifier.h"
@@ -174,19 +175,10 @@ std::string WriteLeavingTrace(const std::string& dir, const std::string& reason)
 }
 
 dynref::verify::VerifyReport Verify(const std::string& path) {
-  dynref::trace::TraceReader reader(path);
-  const dynref::verify::TraceModel model(reader);
-  dynref::verify::VerifierList list;
-  dynref::verify::AddBlurVerifiers(list);
-  return dynref::verify::VerifyTrace(model, list, {});
+  return dynref::verify::test::VerifyWith(path, dynref::verify::AddBlurVerifiers);
 }
 
-std::string Examples(const dynref::verify::VerifyReport& r) {
-  std::string s;
-  for (const auto& [stage, st] : r.stages)
-    for (const std::string& e : st.examples) s += stage + ": " + e + "\n";
-  return s;
-}
+using dynref::verify::test::Examples;
 
 }  // namespace
 

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "test_support.h"
+#include "verify_test_support.h"
 #include "trace/trace_reader.h"
 #include "trace/trace_writer.h"
 #include "verify/verifier.h"
@@ -77,19 +78,10 @@ std::string WriteTrace(const std::string& dir, const Plant& plant) {
 }
 
 dynref::verify::VerifyReport Verify(const std::string& path) {
-  dynref::trace::TraceReader reader(path);
-  const dynref::verify::TraceModel model(reader);
-  dynref::verify::VerifierList list;
-  dynref::verify::AddSemanticVerifiers(list);
-  return dynref::verify::VerifyTrace(model, list, {});
+  return dynref::verify::test::VerifyWith(path, dynref::verify::AddSemanticVerifiers);
 }
 
-std::string Examples(const dynref::verify::VerifyReport& r) {
-  std::string s;
-  for (const auto& [stage, st] : r.stages)
-    for (const std::string& e : st.examples) s += stage + ": " + e + "\n";
-  return s;
-}
+using dynref::verify::test::Examples;
 
 }  // namespace
 
