@@ -4,7 +4,12 @@
 #   bash scripts/build.sh dynref     only the executable (the main job)
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release > build.configure.log 2>&1 || { cat build.configure.log; exit 1; }
+# Ninja on a fresh folder: it compiles a room's files while the rooms below it are still being
+# archived (Make waits for each library), which keeps both cores busy on the long room chain.
+# An existing folder keeps the generator it was made with.
+gen=()
+[ -f build/CMakeCache.txt ] || ! command -v ninja > /dev/null || gen=(-G Ninja)
+cmake -S . -B build "${gen[@]}" -DCMAKE_BUILD_TYPE=Release > build.configure.log 2>&1 || { cat build.configure.log; exit 1; }
 if [ $# -gt 0 ]; then
   cmake --build build -j "$(nproc)" --target "$@"
 else
