@@ -1,87 +1,61 @@
 #!/usr/bin/env bash
-# Real time on one core (issue 18): `dynref run --trace off` of orb and sgdo (dense map on) on
-# synthetic seed-1 sequences, per-module ms per frame (thread CPU time, run.json), the dense map's
-# stage time, the means over the first and last 100 frames, and the peak memory (GNU time).
-# Writes a Markdown report. Numbers, never a timed test.
+# Real time on one core (issues 18, 35): `dynref run --trace off` of every config a reproduce table
+# uses (and orb, the yardstick) on synthetic sequences with yolo-like detections: per-module ms
+# per frame (thread CPU time from run.json: mean, p50, p95), each method stage's mean, slam ms as a
+# ratio to orb on the same sequence in the same bench run (ratios hold on a shared, noisy machine),
+# then one LONG-frame run per method for the head / tail means (first / last 100 frames) and the
+# peak RSS (GNU time). Writes a Markdown report. Numbers, never a timed test.
 #
-#   bash scripts/bench-realtime.sh [REPORT]     (default out/bench/realtime_bench.md)
-#   FRAMES="600" LONG=900 PRESETS="walking_xyz walking_halfsphere static_xyz" METHODS="orb sgdo"
+#   bash scripts/bench-realtime.sh [REPORT]     (default reports/realtime_bench.md)
+#   FRAMES=600 LONG=900 SEEDS="1 2 3" PRESETS="walking_xyz walking_halfsphere"
+#   METHODS="orb sgdo ..." (default: every configs/*.yaml named in ref/reproduce, orb first)
 #   DYNREF=build/dynref DYNREF_BENCH_OUT=out/bench
 set -euo pipefail
 cd "$(dirname "$0")/.."
 OUT=${DYNREF_BENCH_OUT:-out/bench}
-REPORT=${1:-$OUT/realtime_bench.md}
+REPORT=${1:-reports/realtime_bench.md}
 FRAMES=${FRAMES:-600}
 LONG=${LONG:-900}
-PRESETS=(${PRESETS:-walking_xyz walking_halfsphere static_xyz})
-METHODS=(${METHODS:-orb sgdo})
+SEEDS=(${SEEDS:-1 2 3})
+PRESETS=(${PRESETS:-walking_xyz walking_halfsphere})
 DYNREF=${DYNREF:-build/dynref}
+table_configs() {  # configs/<name>.yaml whose name a reproduce table quotes
+  for f in configs/*.yaml; do
+    local m; m=$(basename "$f" .yaml)
+    [ "$m" = orb ] || ! grep -q "\"$m\"" ref/reproduce/*.cpp || echo "$m"
+  done
+}
+METHODS=(orb $(echo "${METHODS:-$(table_configs)}" | tr ' ' '\n' | grep -vx orb || true))
 [ -x "$DYNREF" ] || bash scripts/build.sh
 command -v /usr/bin/time > /dev/null || { echo "bench-realtime: needs GNU time (apt-get install time)" >&2; exit 2; }
 mkdir -p "$OUT/runs"
 
-sequence() {  # preset frames -> folder
-  local seq="$OUT/seq/$1-$2-s1"
-  [ -f "$seq/groundtruth.txt" ] || "$DYNREF" synth --preset "$1" --frames "$2" --seed 1 --detections yolo-like \
+sequence() {  # preset frames seed -> folder
+  local seq="$OUT/seq/$1-$2-s$3"
+  [ -f "$seq/groundtruth.txt" ] || "$DYNREF" synth --preset "$1" --frames "$2" --seed "$3" --detections yolo-like \
     --out "$seq" > /dev/null
   echo "$seq"
 }
 
 ROWS=()
-run() {  # preset frames method
-  local seq run
-  seq=$(sequence "$1" "$2")
-  run="$OUT/runs/realtime-$1-$2-$3"
-  echo "bench-realtime: $3 on $1 ($2 frames)" >&2
-  /usr/bin/time -v -o "$run.time" "$DYNREF" run --sequence "$seq" --out "$run" --method "$3" \
+run() {  # kind preset frames seed method
+  local seq out
+  seq=$(sequence "$2" "$3" "$4")
+  out="$OUT/runs/realtime-$2-$3-s$4-$5"
+  echo "bench-realtime: $5 on $2 seed $4 ($3 frames)" >&2
+  /usr/bin/time -v -o "$out.time" "$DYNREF" run --sequence "$seq" --out "$out" --method "$5" \
     --detections "$seq/detections/yolo-like" --trace off --no-progress > /dev/null
-  "$DYNREF" eval --gt "$seq/groundtruth.txt" --est "$run/trajectory.txt" --json "$run/eval.json" > /dev/null
-  ROWS+=("$1|$2|$3|$run")
+  "$DYNREF" eval --gt "$seq/groundtruth.txt" --est "$out/trajectory.txt" --json "$out/eval.json" > /dev/null
+  ROWS+=("$1|$2|$3|$4|$5|$out")
 }
 
 for p in "${PRESETS[@]}"; do
-  for m in "${METHODS[@]}"; do
-    case "$p" in static_*) [ "$m" = orb ] || continue ;; esac  # static control: the backbone only
-    run "$p" "$FRAMES" "$m"
+  for s in "${SEEDS[@]}"; do
+    for m in "${METHODS[@]}"; do run table "$p" "$FRAMES" "$s" "$m"; done
   done
 done
-[ "$LONG" -gt 0 ] && for m in "${METHODS[@]}"; do run walking_xyz "$LONG" "$m"; done
+if [ "$LONG" -gt 0 ]; then
+  for m in "${METHODS[@]}"; do run long walking_xyz "$LONG" "${SEEDS[0]}" "$m"; done
+fi
 
-python3 - "$REPORT" "$("$DYNREF" version)" "${ROWS[@]}" <<'PY'
-import json, os, re, sys
-report, version, rows = sys.argv[1], sys.argv[2], sys.argv[3:]
-lines = [
-    "# Real time on one core (issue 18)", "",
-    f"Written by `scripts/bench-realtime.sh` with {version}. `dynref run --trace off`, one thread, "
-    "640x480, synthetic seed 1, yolo-like detections. ms = thread CPU ms per frame (run.json `timing`; "
-    "`slam` = everything but image loading). `dense` = the `sgdo.densemap` stage (part of local mapping). "
-    "head / tail = mean slam ms over the first / last 100 frames. Peak RSS from GNU time. ATE RMSE over the "
-    "tracked frames (SE(3) alignment).", "",
-    "| preset | frames | method | slam ms | tracking | local mapping | ba | dense | head | tail | tail/head | keyframes | dense map points | peak RSS GiB | ATE m | tracked |",
-    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
-]
-for row in rows:
-    preset, frames, method, run = row.split("|")
-    j = json.load(open(os.path.join(run, "run.json")))
-    t = j["timing"]
-    ms = lambda k, f="mean_ms_per_frame": t[k][f]
-    dense = j.get("timing_stages", {}).get("sgdo.densemap")
-    rss = float(re.search(r"Maximum resident set size \(kbytes\): (\d+)", open(run + ".time").read()).group(1)) / 2**20
-    points = "-"
-    ply = os.path.join(run, "dense_map.ply")
-    if os.path.exists(ply):
-        head = open(ply, "rb").read(400).decode("latin1")
-        points = re.search(r"element vertex (\d+)", head).group(1)
-    ev = json.load(open(os.path.join(run, "eval.json")))
-    ate = ev["ate"]["stats"]["rmse"]
-    lines.append(
-        f"| {preset} | {frames} | {method} | {ms('slam'):.1f} | {ms('tracking'):.1f} | {ms('local_mapping'):.1f} | "
-        f"{ms('ba'):.1f} | {'-' if dense is None else f'{dense:.1f}'} | {ms('slam', 'head_mean_ms_per_frame'):.1f} | "
-        f"{ms('slam', 'tail_mean_ms_per_frame'):.1f} | {ms('slam', 'tail_mean_ms_per_frame') / ms('slam', 'head_mean_ms_per_frame'):.2f} | "
-        f"{j['keyframes_created']} | {points} | {rss:.2f} | {ate:.4f} | {j['frames_tracked']}/{j['frames_processed']} |")
-os.makedirs(os.path.dirname(os.path.abspath(report)), exist_ok=True)
-tmp = report + ".tmp"
-open(tmp, "w").write("\n".join(lines) + "\n")
-os.replace(tmp, report)
-print("\n".join(lines))
-PY
+python3 scripts/realtime_report.py "$REPORT" "$("$DYNREF" version)" "$(nproc)" "$(uptime)" "${ROWS[@]}"

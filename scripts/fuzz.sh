@@ -5,8 +5,48 @@
 # Uses build/ (scripts/build.sh) or the folder in $DYNREF_BUILD (e.g. build-asan for ASan+UBSan);
 # $DYNREF_FUZZ_BIN names a ready driver binary instead (nothing is built; e.g. a copy, so that a
 # rebuild during the ~25 min run cannot swap it).
+#
+#   scripts/fuzz.sh configs [JOBS=2] [ROTATE=1] [BUDGET_S=0 (none)]
+# The config-mutation target (issue 37, scripts/fuzz_configs.py): every parameter of every
+# configs/*.yaml mutated (inf, -inf, nan, 1e308, -1, 0, 1.5x, 1e-308, text, lists, ...), each
+# mutant run on a 2-frame synthetic sequence with a 30 s limit; exit 0 with complete outputs or
+# exit 2 naming file, line and key, else a finding. Writes the "Config mutation" section of
+# reports/fuzz.md (the input-reader section above it is kept).
 set -euo pipefail
 cd "$(dirname "$0")/.."
+if [ "${1:-}" = "configs" ]; then
+  jobs="${2:-2}"
+  rotate="${3:-1}"
+  budget="${4:-0}"
+  build="${DYNREF_BUILD:-build}"
+  bin="${DYNREF_BIN:-$build/dynref}"
+  [ -n "${DYNREF_BIN:-}" ] || cmake --build "$build" --target dynref -j "$(nproc)" > /dev/null
+  work="$(mktemp -d "$( [ -d /dev/shm ] && echo /dev/shm || echo /tmp )/dynref_fuzz_configs.XXXXXX")"
+  table="$(mktemp)"
+  status=0
+  python3 scripts/fuzz_configs.py --dynref "$bin" --work "$work" --jobs "$jobs" --rotate "$rotate" \
+    --budget "$budget" --timeout 30 --table "$table" 2> "$work/stderr.log" || status=$?
+  touch reports/fuzz.md
+  {
+    sed '/^## Config mutation/,$d' reports/fuzz.md
+    echo "## Config mutation"
+    echo
+    echo "\`scripts/fuzz.sh configs $jobs $rotate $budget\` on $(date -u +%Y-%m-%d), commit $(git rev-parse --short HEAD),"
+    echo "binary \`$bin\`, $(nproc) cores (shared). Each mutant changes one value of one configs/*.yaml line"
+    echo "and runs \`dynref run --trace off\` on a 2-frame walking_xyz synthetic sequence (ideal detections)."
+    echo "accepted = exit 0 with run.json complete and trajectory.txt; refused = exit 2 naming the mutated"
+    echo "file, its line and the key (stage.key); every other column is a finding."
+    echo
+    cat "$table"
+    echo
+    echo "Exit status of the driver: $status (0 = no finding)."
+  } > reports/fuzz.md.tmp
+  mv reports/fuzz.md.tmp reports/fuzz.md
+  sed -n '/^## Config mutation/,$p' reports/fuzz.md
+  rm -f "$table"
+  [ "$status" -eq 0 ] && rm -rf "$work" || echo "mutants and logs kept in $work" >&2
+  exit "$status"
+fi
 execs="${1:-1000000}"
 seed="${2:-1}"
 build="${DYNREF_BUILD:-build}"
@@ -36,6 +76,8 @@ status=0
     grep "unclear x\|CRASH" "$work/stderr.log"
     echo '```'
   fi
+  # The config-mutation section (scripts/fuzz.sh configs) stays.
+  [ -f reports/fuzz.md ] && { echo; sed -n '/^## Config mutation/,$p' reports/fuzz.md; }
 } > reports/fuzz.md.tmp
 mv reports/fuzz.md.tmp reports/fuzz.md
 cat reports/fuzz.md

@@ -6,8 +6,10 @@
 set -euo pipefail
 PACKAGES=(
   build-essential cmake git pkg-config
+  ninja-build                # faster parallel builds on few cores (scripts/build.sh)
   libeigen3-dev              # linear algebra, SE(3)
   libopencv-dev libopencv-contrib-dev  # images, ORB/FAST, LK, DNN (OpenCV 4.6)
+  zlib1g-dev                 # dynref view: compressed per-frame data files (ref/view/packed.cpp)
   libpng-dev libjpeg-dev     # png.h / jpeglib.h: the executable keeps the codecs' messages (ref/cli/main.cpp)
   libceres-dev               # pose-only optimisation and local BA
   libopenimageio-dev         # off-screen overlays, montages, plots

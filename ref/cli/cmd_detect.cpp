@@ -21,6 +21,7 @@
 #include "core/version.h"
 #include "detect/detection_source.h"
 #include "detect/overlay.h"
+#include "detect/temporal_links.h"
 #include "io/mask_format.h"
 #include "io/sequence.h"
 
@@ -30,6 +31,7 @@ namespace {
 struct DetectArgs {
   std::string source, sequence, out, camera, input, mode, image, overlay, overlays, frames;
   DetectSourceOptions options;
+  detect::TemporalOptions temporal{0};  // --temporal-gap 0: off (issue 39)
   bool no_masks = false;
   int repeat = 0;
   bool conf_given = false, frames_given = false;  // the option was on the command line
@@ -57,6 +59,11 @@ void CheckArgs(const DetectArgs& a) {
     throw InputError("--frames", "empty value (give A, A-B or A-; omit --frames for all frames)");
   if (!a.frames.empty()) ParseFrameRange(a.frames);
   CheckDetectionSpec(SpecOf(a), o, "--source");
+  try {
+    a.temporal.Check();
+  } catch (const std::invalid_argument& e) {
+    throw InputError("--temporal-gap/--temporal-iou", e.what());
+  }
 }
 
 void WritePng(const std::string& path, const cv::Mat& image) {
@@ -96,6 +103,9 @@ std::string InfoText(const DetectArgs& a, const DetectionSource& src, size_t fir
     << (o.confidence_threshold < 0 ? std::string("default") : FormatDouble17(o.confidence_threshold))
     << "\nnms_iou " << FormatDouble17(o.nms_iou) << "\nmax_detections " << o.max_detections << "\nmasks "
     << (o.masks ? 1 : 0) << "\nsequence " << a.sequence << "\nframes " << first << "-" << last << "\n";
+  if (a.temporal.max_gap > 0)
+    s << "temporal_gap " << a.temporal.max_gap << "\ntemporal_iou " << FormatDouble17(a.temporal.iou_link)
+      << "\ntemporal_history " << a.temporal.history << "\n";
   return s.str();
 }
 
@@ -163,13 +173,25 @@ int RunDetect(DetectArgs a) {
   DetectionsWriter writer(out_dir, source->name(), source->model_sha256());
   std::map<std::string, int> totals;
   std::vector<double> wall_ms, cpu_ms;  // per frame
+  // --temporal-gap N: tracks across frames; a missed person is carried N frames (tracks.txt).
+  detect::TemporalLinker linker(a.temporal, cv::Size(seq.camera.width, seq.camera.height));
+  std::ostringstream tracks;
+  tracks << "# rgb_stamp instance_id track origin (detected | carried), dynref detect --temporal-gap "
+         << a.temporal.max_gap << "\n";
   for (size_t i = first; i <= last; ++i) {
     const FrameEntry& fe = seq.frames[i];
     const bool need = source->needs_image() || !a.overlays.empty();
     const cv::Mat bgr = need ? LoadRgb(seq, fe) : cv::Mat();
     const auto t0 = Clock::now();
     const std::clock_t c0 = std::clock();
-    const FrameDetections f = source->Detect(bgr, fe.rgb_stamp_text);
+    FrameDetections f = source->Detect(bgr, fe.rgb_stamp_text);
+    if (a.temporal.max_gap > 0) {
+      std::vector<detect::TrackLink> links;
+      f = linker.Process(f, fe.rgb_stamp, &links);
+      for (const detect::TrackLink& l : links)
+        tracks << fe.rgb_stamp_text << " " << l.instance_id << " " << l.track << " " << (l.carried ? "carried" : "detected")
+               << "\n";
+    }
     cpu_ms.push_back(1000.0 * double(std::clock() - c0) / CLOCKS_PER_SEC);
     wall_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     // Sources that never decode the frame (files:, labels:) are checked against the camera size
@@ -185,6 +207,7 @@ int RunDetect(DetectArgs a) {
   }
   writer.Finish();
   AtomicWriteFile(out_dir + "/detect_info.txt", InfoText(a, *source, first, last));
+  if (a.temporal.max_gap > 0) AtomicWriteFile(out_dir + "/tracks.txt", tracks.str());
   PublishDirectory(out_dir, target, a.out, IsReplaceableDetections, kNotDetections);
   staging.Commit();
   const size_t n = last - first + 1;
@@ -231,6 +254,11 @@ void RegisterDetectCommand(CLI::App& root, CommandList& out) {
   app->add_option("--input-size", args->options.yolo_input_size, "onnx-yolo square input size")->capture_default_str();
   app->add_option("--class-names", args->options.class_names_file, "onnx-yolo: one class name per line");
   app->add_flag("--no-masks", args->no_masks, "Boxes only (skip selfie / YOLO-seg masks)");
+  app->add_option("--temporal-gap", args->temporal.max_gap,
+                  "Track persons across frames; carry a missed one this many frames as a box (0 = off; tracks.txt)")
+      ->capture_default_str();
+  app->add_option("--temporal-iou", args->temporal.iou_link, "Box IoU linking a detection to a track")
+      ->capture_default_str();
   app->add_option("--overlay", args->overlay, "With --image: write the detections drawn on it (PNG)");
   app->add_option("--overlays", args->overlays, "With --sequence: write one overlay PNG per frame here");
   app->add_option("--repeat", args->repeat, "With --image: time N further runs (benchmark, stderr)")

@@ -1,4 +1,5 @@
 // `dynref diff GOLDEN CANDIDATE`: first divergence + per-stage summary (ref/trace/README.md "Diff").
+#include <fstream>
 #include <iostream>
 
 #include "cli/command.h"
@@ -7,6 +8,40 @@
 #include "trace/trace_reader.h"
 
 namespace dynref::cli {
+
+namespace {
+
+// A canonical .jsonl trace without a single record is unreadable input (exit 2), as an empty
+// binary trace is, not a trace that diverged (issue 37).
+void RequireRecords(const std::string& path) {
+  if (path.size() < 6 || path.compare(path.size() - 6, 6, ".jsonl") != 0) return;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.find_first_not_of(" \t\r") != std::string::npos) return;
+  throw InputError(path, "empty JSONL trace (no records)");
+}
+
+// A --tol FIELD that names no float field of the compared records (nor its base name, "T_wc" for
+// "T_wc[3]") would silently do nothing: refused with the fields there are (issue 37).
+void RequireToleranceFields(const trace::DiffOptions& options, const trace::DiffResult& r) {
+  for (const auto& [field, tol] : options.field_abs_tol) {
+    (void)tol;
+    bool found = false;
+    std::string known;
+    for (const auto& [name, err] : r.field_errors) {
+      (void)err;
+      const std::string base = name.substr(0, name.find('['));
+      found = found || name == field || base == field;
+      if (known.find(" " + base + ",") == std::string::npos) known += " " + base + ",";
+    }
+    if (!found)
+      throw InputError("--tol", "no float field '" + field + "' in the compared records (fields:" +
+                                    (known.empty() ? " none" : known.substr(0, known.size() - 1)) + ")");
+  }
+}
+
+}  // namespace
 
 void RegisterDiffCommand(CLI::App& root, CommandList& out) {
   struct Args {
@@ -31,7 +66,10 @@ void RegisterDiffCommand(CLI::App& root, CommandList& out) {
                    for (const std::string& t : args->tolerances) args->options.AddFieldTolerance(t);
                    const std::string g = trace::ResolveTracePath(args->golden);
                    const std::string c = trace::ResolveTracePath(args->candidate);
+                   RequireRecords(g);
+                   RequireRecords(c);
                    const trace::DiffResult r = trace::DiffTraces(g, c, args->options);
+                   RequireToleranceFields(args->options, r);
                    std::cout << r.Report(g, c, args->options);
                    return r.ExitCode();
                  }});

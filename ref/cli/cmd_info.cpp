@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <iostream>
 #include <memory>
@@ -13,14 +14,16 @@
 #include "io/association.h"
 #include "io/sequence.h"
 #include "eval/statistics.h"
+#include "detect/box_eval.h"
+#include "detect/score_calibration.h"
 #include "render/overlay.h"
 
 namespace dynref::cli {
 namespace {
 
 struct InfoArgs {
-  std::string root, camera, association;
-  double max_diff = 0.02;
+  std::string root, camera, association, boxes;
+  double max_diff = 0.02, iou = 0.5;
 };
 
 // Shortest text that reads back to v (517.3, not 517.29999999999995).
@@ -33,7 +36,48 @@ std::string Num(double v) {
   return FormatDouble17(v);
 }
 
+// `dynref info DETECTIONS_DIR [--boxes HAND_BOXES]` (issue 39): the score distribution per class,
+// the source's calibration to the papers' detectors, and recall / precision against hand boxes.
+int RunDetectionsInfo(const InfoArgs& a) {
+  const DetectionsReader reader(a.root);
+  std::map<std::string, FrameDetections> frames;
+  for (const std::string& stamp : reader.Stamps()) frames[stamp] = reader.Read(stamp);
+  const std::vector<double> cuts = {0.25, 0.3, 0.4, 0.5};
+  std::ostringstream o;
+  o << "detections     " << a.root << "\n"
+    << "source         " << reader.source() << " (model_sha256 " << reader.model_sha256() << ")\n"
+    << "frames         " << frames.size() << "\n";
+  const detect::ScoreCalibration& cal = detect::CalibrationForSource(reader.source());
+  o << "calibration    " << cal.name << ": paper threshold 0.25 -> " << FormatFixed(cal.EquivalentThreshold(0.25), 3)
+    << ", 0.5 -> " << FormatFixed(cal.EquivalentThreshold(0.5), 3) << " (" << cal.basis << ")\n";
+  o << "scores per class: count  min  q25  median  q75  max  | >=0.25 >=0.3 >=0.4 >=0.5\n";
+  for (const auto& [name, s] : detect::SummariseScores(frames, cuts)) {
+    o << "  " << name << "  " << s.count << "  " << FormatFixed(s.min, 3) << "  " << FormatFixed(s.q25, 3) << "  "
+      << FormatFixed(s.median, 3) << "  " << FormatFixed(s.q75, 3) << "  " << FormatFixed(s.max, 3) << "  |";
+    for (int n : s.at_least) o << " " << n;
+    o << "\n";
+  }
+  if (!a.boxes.empty()) {
+    const std::vector<detect::HandBox> truth = detect::ReadHandBoxes(a.boxes);
+    std::set<std::string> classes;
+    for (const detect::HandBox& b : truth) classes.insert(b.class_name);
+    for (const std::string& c : classes) {
+      o << "vs " << a.boxes << " (" << c << ", IoU >= " << Num(a.iou) << "):\n";
+      for (double t : {0.0, 0.1, 0.2, 0.25, 0.3, 0.35, 0.4, 0.45, 0.5}) {
+        const detect::MatchCounts m = detect::MatchAgainstHandBoxes(frames, truth, c, t, a.iou);
+        o << "  conf >= " << FormatFixed(t, 2) << "  recall " << m.matched << "/" << m.truth << " = "
+          << FormatFixed(m.Recall(), 3) << "  precision " << m.matched << "/" << m.detections << " = "
+          << FormatFixed(m.Precision(), 3) << "\n";
+      }
+    }
+  }
+  std::cout << o.str();
+  return kExitOk;
+}
+
 int RunInfo(const InfoArgs& a) {
+  if (std::filesystem::is_regular_file(a.root + "/format.txt")) return RunDetectionsInfo(a);
+  if (!a.boxes.empty()) throw InputError(a.boxes, "--boxes needs a detections folder as the argument");
   SequenceOptions opt;
   opt.camera = a.camera;
   opt.max_difference_s = a.max_diff;
@@ -103,7 +147,8 @@ void RegisterInfoCommand(CLI::App& root, CommandList& out) {
   auto args = std::make_shared<InfoArgs>();
   CLI::App* app = root.add_subcommand(
       "info", "Describe a TUM/Bonn/dynref sequence folder: frames, associated pairs, time span, "
-              "ground-truth coverage, camera");
+              "ground-truth coverage, camera; or a detections folder: scores per class, calibration, "
+              "recall / precision against hand boxes");
   app->add_option("SEQ", args->root, "Sequence folder (rgb.txt, depth.txt, groundtruth.txt)")
       ->required();
   app->add_option("--camera", args->camera,
@@ -113,6 +158,9 @@ void RegisterInfoCommand(CLI::App& root, CommandList& out) {
       ->capture_default_str();
   app->add_option("--association", args->association,
                   "Use this associate.py output instead of associating rgb.txt/depth.txt");
+  app->add_option("--boxes", args->boxes,
+                  "With a detections folder: hand boxes (rgb_stamp class label x0 y0 x1 y1) to score against");
+  app->add_option("--iou", args->iou, "With --boxes: IoU for a match")->capture_default_str()->check(CLI::Range(0.0, 1.0));
   out.push_back({app, [args] { return RunInfo(*args); }});
 }
 

@@ -27,8 +27,9 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
   app->add_option("--camera", opts->camera, "camera preset or ORB-SLAM2 YAML (default: auto)");
   CLI::Option* frames_opt = app->add_option("--frames", *frames, "frames A, A-B or A- (0-based, inclusive; A- = to the end)");
   app->add_option("--set", *sets,
-                  "STAGE.KEY=VALUE: change one stage parameter of the config for this run (repeatable), "
-                  "e.g. sgdo.depth.eta=0.05, or a backbone key, e.g. backbone.min_init_points=100; recorded in "
+                  "STAGE.KEY=VALUE: change one stage parameter of the config for this run (repeatable, applied "
+                  "together), e.g. sgdo.depth.eta=0.05, a list sgdo.mask.dynamic_classes=[person,dog], or a backbone "
+                  "key, e.g. backbone.min_init_points=100 (paths relative to the working directory); recorded in "
                   "run.json with source 'dynref run --set'");
   app->add_flag("--overlays", opts->overlays, "render RUN/overlays/overlay_<frame>.png after the run");
   app->add_option("--variant", opts->variant,
@@ -48,25 +49,16 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
                      opts->frames = ParseFrameRange(*frames);
                    }
                    if (!sets->empty()) {
-                     // The stage name has dots itself (sgdo.depth): the key is after the last one.
+                     // One batch (order-free), checked when the run builds its components.
                      auto cfg = std::make_shared<MethodConfig>(LoadMethodConfig(
                          opts->config_path.empty() ? MethodConfigPath(opts->method) : opts->config_path));
-                     for (const std::string& item : *sets) {
-                       const size_t eq = item.find('=');
-                       const size_t dot = eq == std::string::npos ? std::string::npos : item.rfind('.', eq);
-                       if (eq == std::string::npos || dot == std::string::npos || dot == 0 || eq == dot + 1)
-                         throw InputError("--set", "'" + item + "' is not STAGE.KEY=VALUE (e.g. sgdo.depth.eta=0.05)");
-                       if (item.substr(0, dot) == "backbone")
-                         cfg->SetBackboneParam(item.substr(dot + 1, eq - dot - 1), item.substr(eq + 1), "dynref run --set");
-                       else
-                         cfg->SetStageParam(item.substr(0, dot), item.substr(dot + 1, eq - dot - 1), item.substr(eq + 1),
-                                            "dynref run --set");
-                     }
+                     cfg->ApplySets(*sets, "dynref run --set");
                      opts->config = cfg;
                    }
                    const RunResult r = RunSequence(*opts);
                    std::cout << "dynref run: " << r.frames << " frames, " << r.tracked << " tracked, " << r.lost
-                             << " lost, " << r.keyframes << " keyframes; end state: " << r.end_state << "\n";
+                             << " lost, " << r.keyframes << " keyframes; end state: " << r.end_state
+                             << (r.detections_summary.empty() ? "" : "; detections: " + r.detections_summary) << "\n";
                    return r.exit_code;
                  }});
 }

@@ -26,15 +26,22 @@ cv::Mat DecodeScoreMap(const cv::Mat& out, int height, int width) {
     throw std::invalid_argument("score output must be a 1 x C x H x W float blob");
   const int C = out.size[1], h = out.size[2], w = out.size[3];
   cv::Mat scores(height, width, CV_32F, cv::Scalar(0));
+  // The map covers the image as the network saw it (padded to 8 x 8 cells), exactly: a larger map
+  // placed keypoints at the wrong pixels (issue 37: a score map 2x the resolution ran).
+  const int ph = (height + kCell - 1) / kCell * kCell, pw = (width + kCell - 1) / kCell * kCell;
+  const std::string got = std::to_string(C) + " x " + std::to_string(h) + " x " + std::to_string(w);
   if (C == 1) {
-    if (h < height || w < width) throw std::invalid_argument("1-channel score output smaller than the image");
+    if (!((h == height || h == ph) && (w == width || w == pw)))
+      throw std::invalid_argument("1-channel score output must be " + std::to_string(ph) + " x " + std::to_string(pw) +
+                                  " (the padded input), got " + got);
     for (int y = 0; y < height; ++y)
       for (int x = 0; x < width; ++x) scores.at<float>(y, x) = At(out, 0, y, x);
     return scores;
   }
-  if (C != kCell * kCell + 1 || h * kCell < height || w * kCell < width)
-    throw std::invalid_argument("score output must have 65 channels of 8 x 8 cells (SuperPoint) or 1 channel, got " +
-                                std::to_string(C) + " x " + std::to_string(h) + " x " + std::to_string(w));
+  if (C != kCell * kCell + 1 || h * kCell != ph || w * kCell != pw)
+    throw std::invalid_argument("score output must be 65 x " + std::to_string(ph / kCell) + " x " +
+                                std::to_string(pw / kCell) + " (8 x 8 cells of the padded input, SuperPoint) or 1 x " +
+                                std::to_string(ph) + " x " + std::to_string(pw) + ", got " + got);
   std::vector<double> e(static_cast<size_t>(C));
   for (int cy = 0; cy < h; ++cy)
     for (int cx = 0; cx < w; ++cx) {

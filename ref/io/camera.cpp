@@ -166,18 +166,25 @@ Camera ReadOrbSlamCameraYaml(const std::string& path) {
   // Read only to be validated (dynref takes fps and the channel order from elsewhere).
   const double fps = number("Camera.fps", false, 30.0);
   const double rgb = number("Camera.RGB", false, 1.0);
-  if (c.fx <= 0) bad("Camera.fx", "must be positive");
-  if (c.fy <= 0) bad("Camera.fy", "must be positive");
+  // Ranges (issue 37): positive, and below 1e6 (focal lengths in px, bf in px * m, DepthMapFactor
+  // in units per m, fps): a larger value is a unit mistake, not a camera.
+  auto positive = [&](const std::string& key, double v, double hi, const std::string& what) {
+    if (!(v > 0 && v <= hi)) bad(key, "must be positive" + what + " and at most " + Shortest(hi) + ", got " + Shortest(v));
+  };
+  positive("Camera.fx", c.fx, 1e6, "");
+  positive("Camera.fy", c.fy, 1e6, "");
+  // ThDepth: close / far split at ThDepth baselines (ORB-SLAM2 Tracking: mThDepth = bf * ThDepth / fx).
+  positive("ThDepth", c.th_depth, 1e4, " (close points are nearer than ThDepth baselines)");
   // The principal point lies inside the image (ORB-SLAM2's undistortion and grid assume it).
   if (!(c.cx >= 0 && c.cx < c.width))
     bad("Camera.cx", "must lie inside the image (0 <= cx < width " + std::to_string(c.width) + ")");
   if (!(c.cy >= 0 && c.cy < c.height))
     bad("Camera.cy",
         "must lie inside the image (0 <= cy < height " + std::to_string(c.height) + ")");
-  if (c.bf <= 0) bad("Camera.bf", "must be positive (baseline * fx)");
-  if (fps <= 0) bad("Camera.fps", "must be positive");
+  positive("Camera.bf", c.bf, 1e6, " (baseline * fx)");
+  positive("Camera.fps", fps, 1e4, "");
   if (rgb != 0 && rgb != 1) bad("Camera.RGB", "must be 0 (BGR) or 1 (RGB)");
-  if (c.depth_factor <= 0) bad("DepthMapFactor", "must be positive");
+  positive("DepthMapFactor", c.depth_factor, 1e6, "");
   return c;
 }
 

@@ -138,11 +138,30 @@ std::vector<std::string> DetectionsReader::Stamps() const {
   return out;
 }
 
+namespace {
+
+// Every non-zero pixel of the instance-id PNG is an instance with a mask in the frame's .txt: a
+// PNG of other ids gave the frame no masks without a word (issue 37).
+void RequireListedIds(const FrameDetections& f, const std::string& png, const std::string& txt) {
+  std::vector<bool> listed(65536, false), seen(65536, false);
+  for (const DetectedInstance& d : f.instances) listed[static_cast<size_t>(d.id)] = d.has_mask;
+  for (int y = 0; y < f.instance_ids.rows; ++y) {
+    const uint16_t* row = f.instance_ids.ptr<uint16_t>(y);
+    for (int x = 0; x < f.instance_ids.cols; ++x) seen[row[x]] = true;
+  }
+  for (size_t id = 1; id < seen.size(); ++id)
+    if (seen[id] && !listed[id])
+      throw InputError(png, "pixel value " + std::to_string(id) + " is not an instance with a mask in " + txt);
+}
+
+}  // namespace
+
 FrameDetections DetectionsReader::Read(const std::string& stamp_text, cv::Size image_size) const {
   auto it = index_.find(stamp_text);
   if (it == index_.end()) throw InputError(dir_ + "/index.txt", "no detections for frame " + stamp_text);
   FrameDetections out;
   out.stamp_text = stamp_text;
+  out.source = source_;
   const std::string tpath = dir_ + "/" + it->second + ".txt";
   const auto lines = ReadLines(tpath);
   bool any_mask = false;
@@ -185,6 +204,7 @@ FrameDetections DetectionsReader::Read(const std::string& stamp_text, cv::Size i
                                 std::to_string(out.instance_ids.rows) + ", the images are " +
                                 std::to_string(image_size.width) + "x" +
                                 std::to_string(image_size.height));
+    RequireListedIds(out, png, tpath);
   }
   return out;
 }

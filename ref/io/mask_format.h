@@ -29,6 +29,10 @@ struct FrameDetections {
   std::string stamp_text;                  // rgb stamp as in rgb.txt
   std::vector<DetectedInstance> instances; // ascending id
   cv::Mat instance_ids;                    // CV_16U or empty when no instance has a mask
+  // The source that produced the scores (format.txt `source`, e.g. "nanodet+selfie"); stages map
+  // a paper's threshold to it (detect/score_calibration.h). Empty = unknown (identity). Not on disk
+  // per frame.
+  std::string source;
   // Binary (CV_8U 0/255) mask of one instance; empty if it has none.
   cv::Mat MaskOf(int instance_id) const;
 };

@@ -24,6 +24,25 @@ const MapModuleFactory* MethodRegistry::FindMapModule(const std::string& name) c
   return it == map_modules_.end() ? nullptr : &it->second;
 }
 
+void MethodRegistry::AddParams(const std::string& name, ParamSpecs specs) {
+  if (params_.count(name)) throw std::logic_error("parameters of " + name + " declared twice");
+  params_[name] = std::move(specs);
+}
+
+const ParamSpecs* MethodRegistry::FindParams(const std::string& name) const {
+  auto it = params_.find(name);
+  return it == params_.end() ? nullptr : &it->second;
+}
+
+void MethodRegistry::AddRequirement(const std::string& name, const std::string& needed) {
+  requirements_[name].push_back(needed);
+}
+
+std::vector<std::string> MethodRegistry::Requirements(const std::string& name) const {
+  auto it = requirements_.find(name);
+  return it == requirements_.end() ? std::vector<std::string>{} : it->second;
+}
+
 std::vector<std::string> MethodRegistry::Names() const {
   std::map<std::string, int> all;
   for (const auto& kv : stages_) all[kv.first] = 0;

@@ -30,11 +30,21 @@ class MethodRegistry {
   const StageFactory* FindStage(const std::string& name) const;
   const MapModuleFactory* FindMapModule(const std::string& name) const;
   bool Has(const std::string& name) const { return FindStage(name) || FindMapModule(name); }
+  // The declared keys and ranges of a component's parameters (params.h ParamSpec), checked by the
+  // Session before the factory runs; std::logic_error for a name given twice.
+  void AddParams(const std::string& name, ParamSpecs specs);
+  const ParamSpecs* FindParams(const std::string& name) const;
+  // `name` needs `needed` in the same config (e.g. mgd.boxes reads mgd.probability's options):
+  // the Session refuses a config without it at the stage's line, before the first frame.
+  void AddRequirement(const std::string& name, const std::string& needed);
+  std::vector<std::string> Requirements(const std::string& name) const;
   std::vector<std::string> Names() const;  // sorted
 
  private:
   std::map<std::string, StageFactory> stages_;
   std::map<std::string, MapModuleFactory> map_modules_;
+  std::map<std::string, ParamSpecs> params_;
+  std::map<std::string, std::vector<std::string>> requirements_;
 };
 
 }  // namespace dynref

@@ -1,14 +1,34 @@
 #include "method/session.h"
 
 #include <exception>
+#include <set>
 
 #include "core/cpu_clock.h"
 #include "core/error.h"
 
 namespace dynref {
 
+namespace {
+
+// Every component's parameters against its declared specs and its required companions, all
+// before the first factory runs (a config error never waits for a frame: issue 33, 37).
+void CheckComponents(const std::string& config_path, const std::vector<StageConfig>& components,
+                     const MethodRegistry& registry) {
+  std::set<std::string> names;
+  for (const StageConfig& sc : components) names.insert(sc.name);
+  for (const StageConfig& sc : components) {
+    if (const ParamSpecs* specs = registry.FindParams(sc.name)) CheckParams(sc.params, *specs);
+    for (const std::string& needed : registry.Requirements(sc.name))
+      if (!names.count(needed))
+        throw InputError(config_path, sc.params.line, "stage " + sc.name + " needs " + needed + " in the stage list");
+  }
+}
+
+}  // namespace
+
 Session::Session(const std::string& config_path, const std::vector<StageConfig>& components,
                  const MethodRegistry& registry) {
+  CheckComponents(config_path, components, registry);
   for (const StageConfig& sc : components) {
     Component c;
     if (const StageFactory* f = registry.FindStage(sc.name)) {
@@ -85,6 +105,7 @@ SessionEnd Session::Finish(const Map& map, const std::string& out_dir) {
     }
   }
   out.outputs = end.outputs();
+  out.detection_use = end.detection_use();
   return out;
 }
 

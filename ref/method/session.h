@@ -16,6 +16,7 @@ namespace dynref {
 struct SessionEnd {
   std::vector<RunOutput> outputs;
   std::vector<std::string> errors;  // "<module>: <message>", in config order
+  std::vector<DetectionUse> detection_use;  // per stage that thresholds detections (issue 39), config order
 };
 
 class Session : public LandmarkObserver {

@@ -1,6 +1,7 @@
 // The table of backbone keys; see backbone_options.h.
 #include "pipeline/backbone_options.h"
 
+#include <cstdio>
 #include <functional>
 
 #include "core/error.h"
@@ -26,8 +27,10 @@ struct KeyRow {
 using K = KeyRow::Kind;
 
 // A relative path read from a config file, as a path from the working directory.
+// A value given by `dynref run --set` (its location is "--set ...") is relative to the working
+// directory (issue 37).
 std::string RelativeTo(const std::string& config_file, const std::string& path) {
-  if (path.empty() || path[0] == '/' || config_file.empty()) return path;
+  if (path.empty() || path[0] == '/' || config_file.empty() || config_file.rfind("--set", 0) == 0) return path;
   const size_t slash = config_file.find_last_of('/');
   return slash == std::string::npos ? path : config_file.substr(0, slash + 1) + path;
 }
@@ -53,6 +56,11 @@ const std::vector<KeyRow>& Rows() {
        K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.mapper.ba.weighted_outlier_test = v != 0; }},
       {"ba_iterations_robust", "5", "default: ORB-SLAM2 Optimizer::LocalBundleAdjustment optimize(5) with Huber", K::kInt, 0, 1000, false,
        [](BackboneOptions& o, double v) { o.mapper.ba.iterations_robust = static_cast<int>(v); }},
+      {"bow_matching", "false",
+       "dynref (issue 34): false = brute-force keyframe-to-frame matching (dynref before issue 34); true = ORB-SLAM2 "
+       "ORBmatcher::SearchByBoW (features under the same vocabulary node, backbone.vocabulary) in reference-keyframe "
+       "tracking and relocalisation",
+       K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.tracker.bow_matching = v != 0; }},
       {"camera_rgb_flag", "true",
        "default: ORB-SLAM2 TUM1-3.yaml Camera.RGB: 1 applied to cv::imread's BGR images "
        "(Tracking::GrabImageRGBD converts with CV_RGB2GRAY, so blue gets red's weight); "
@@ -124,6 +132,13 @@ const std::vector<KeyRow>& Rows() {
        K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.structure.lines = v != 0; }},
       {"local_ba", "true", "default: ORB-SLAM2 local mapping runs local BA", K::kBool, 0, 0, false,
        [](BackboneOptions& o, double v) { o.mapper.local_ba = v != 0; }},
+      {"loop_closing", "false",
+       "dynref (issue 34): ORB-SLAM2 runs LoopClosing; off by default until it is validated over seeds 1-3 (reports/loop_closing.md: one seed so far; switching it on changes every golden); "
+       "true = ORB-SLAM2's loop detection, SE(3) RANSAC, loop fusion, essential graph and global BA after local "
+       "mapping of each keyframe (ref/loop/README.md; backbone.vocabulary)",
+       K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.loop.enabled = v != 0; }},
+      {"loop_global_ba", "true", "default: ORB-SLAM2 LoopClosing::CorrectLoop starts RunGlobalBundleAdjustment (10 iterations)",
+       K::kBool, 0, 0, false, [](BackboneOptions& o, double v) { o.loop.global_ba = v != 0; }},
       {"mapping_clock", "true",
        "dynref (issue 18): local mapping is busy for a virtual time charged per keyframe (ref/mapping/mapping_clock.h), "
        "as ORB-SLAM2's concurrent local mapper; false = idle at every frame (every low-inlier frame becomes a keyframe)",
@@ -209,10 +224,22 @@ const std::vector<KeyRow>& Rows() {
       {"reloc_recent_keyframes", "10",
        "not stated: dynref has no BoW database; relocalisation tries the 10 most recent keyframes", K::kInt, 1, 100000, false,
        [](BackboneOptions& o, double v) { o.tracker.reloc_recent_keyframes = static_cast<int>(v); }},
+      {"relocalisation", "recent",
+       "dynref (issue 34): recent = the reloc_recent_keyframes most recent keyframes (dynref before issue 34); bow = "
+       "ORB-SLAM2 KeyFrameDatabase::DetectRelocalizationCandidates over the whole map (backbone.vocabulary)",
+       K::kText, 0, 0, false, nullptr, "recent|bow",
+       [](BackboneOptions& o, const std::string& v, const std::string&) { o.tracker.relocalisation = v; }},
       {"scale_factor", "1.2", "default: ORB-SLAM2 ORBextractor.scaleFactor", K::kDouble, 1, 1e9, true,
        [](BackboneOptions& o, double v) { o.orb.scale_factor = v; }},
-      {"seed", "1", "not stated: seed of dynref's named RNG streams (relocalisation RANSAC)", K::kInt, 0, kMaxExactInt, false,
-       [](BackboneOptions& o, double v) { o.tracker.seed = static_cast<uint64_t>(v); }},
+      {"seed", "1", "not stated: seed of dynref's named RNG streams (relocalisation and loop-closing RANSAC)", K::kInt, 0, kMaxExactInt, false,
+       [](BackboneOptions& o, double v) { o.tracker.seed = o.loop.seed = static_cast<uint64_t>(v); }},
+      {"vocabulary", "default",
+       "dynref (issue 34): default = the embedded models/vocab/dynref_orb_k10_l4.txt; else a vocabulary file in "
+       "dynref's format or ORB-SLAM2's ORBvoc.txt (relative to the config file's folder; ref/place/README.md)",
+       K::kText, 0, 0, false, nullptr, nullptr,
+       [](BackboneOptions& o, const std::string& v, const std::string& file) {
+         o.vocabulary = v == "default" ? v : RelativeTo(file, v);
+       }},
   };
   return rows;
 }
@@ -220,7 +247,11 @@ const std::vector<KeyRow>& Rows() {
 std::string RangeText(const KeyRow& r) {
   if (r.kind == K::kInt)
     return "must be in " + std::to_string(static_cast<int64_t>(r.lo)) + ".." + std::to_string(static_cast<int64_t>(r.hi));
-  return std::string("must be ") + (r.lo_open ? "> " : ">= ") + (r.lo == 1 ? "1" : "0");
+  // Both bounds (a value above hi was told "must be > 0", issue 37).
+  char lo[32], hi[32];
+  std::snprintf(lo, sizeof(lo), "%g", r.lo);
+  std::snprintf(hi, sizeof(hi), "%g", r.hi);
+  return std::string("must be in ") + (r.lo_open ? "(" : "[") + lo + ", " + hi + "]";
 }
 
 // Value of a validated param as a double (bools 0/1).
@@ -256,6 +287,7 @@ features::ExtractorOptions BackboneOptions::Extractor() const {
 void BackboneOptions::Check() const {
   Extractor().Check();  // ORB options included
   tracker.Check();
+  loop.Check();
   mapper.Check();
   mapping_clock.Check();
   structure.Check();
@@ -294,6 +326,14 @@ BackboneOptions ResolveBackbone(const std::map<std::string, Param>& given, const
   if (o.orb.min_th_fast > o.orb.ini_th_fast) {
     const Param& p = all.at("min_th_fast");
     throw InputError(p.file, p.line, "backbone.min_th_fast: need 1 <= min_th_fast <= ini_th_fast");
+  }
+  if (o.UsesVocabulary() && o.extractor.type != "orb") {
+    const Param& p = all.at(o.loop.enabled ? "loop_closing" : o.tracker.relocalisation == "bow" ? "relocalisation" : "bow_matching");
+    throw InputError(p.file, p.line, "backbone: the vocabulary needs features: orb (ref/place/README.md 'Float descriptors')");
+  }
+  if (o.tracker.bow_matching && o.tracker.mnn2.enabled) {
+    const Param& p = all.at("bow_matching");
+    throw InputError(p.file, p.line, "backbone.bow_matching and backbone.mnn2_matching are exclusive");
   }
   if (o.extractor.type == "onnx" && o.extractor.onnx.model.empty()) {
     const Param& p = all.at("features");

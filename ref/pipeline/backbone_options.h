@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "features/keypoint_extractor.h"
+#include "loop/loop_closer.h"
 #include "mapping/local_mapper.h"
 #include "mapping/mapping_clock.h"
 #include "structure/structure_options.h"
@@ -29,6 +30,10 @@ struct BackboneOptions {
   bool camera_rgb_flag = true;
   // Keypoints on depth discontinuities get no depth when > 0 (Frame::FinishFeatures; 0 = ORB-SLAM2).
   double depth_edge_rel = 0;
+  // Issue 34: "default" (embedded) or a vocabulary file; read when UsesVocabulary().
+  std::string vocabulary = "default";
+  loop::LoopClosingOptions loop;  // issue 34, ref/loop (seed: tracker.seed)
+  bool UsesVocabulary() const { return tracker.relocalisation == "bow" || tracker.bow_matching || loop.enabled; }
   features::ExtractorOptions Extractor() const;
   void Check() const;  // InputError naming the bad field
 };

@@ -48,6 +48,13 @@ FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session
     tracker_.SetStructure(structure_.get());
     mapper_.SetStructure(structure_.get());
   }
+  if (inputs.config->backbone.UsesVocabulary()) {
+    place_ = std::make_unique<tracking::PlaceIndex>(inputs.config->backbone.vocabulary);
+    tracker_.SetPlaceIndex(place_.get());
+  }
+  if (inputs.config->backbone.loop.enabled)
+    loop_ = std::make_unique<loop::LoopCloser>(map_, camera_, inputs.config->backbone.loop, inputs.config->backbone.mapper.ba,
+                                               trace);
 }
 
 FrameLoop::~FrameLoop() {
@@ -97,6 +104,8 @@ void FrameLoop::MapperLoop() {
         ctx.threads = options_.threads;
         session_.Run(Hook::kOnMapUpdate, ctx);
         session_.OnMapUpdate(MapModuleContext{kf->frame, *kf, map_, camera_, trace_, options_.threads});
+        if (place_ != nullptr) place_->AddAfterMapping(*kf, map_);
+        if (loop_ != nullptr) loop_->Process(kf->id, *place_);
       }
     } catch (const std::exception& e) {
       mapper_error_ = "keyframe " + std::to_string(id) + ": " + e.what();
@@ -245,6 +254,8 @@ bool FrameLoop::Process(size_t k) {
         trace_.FrameCount("mapping", "virtual_cost_us", static_cast<int64_t>(std::llround(cost_ms * 1e3)));
         session_.Run(Hook::kOnMapUpdate, ctx);
         session_.OnMapUpdate(mctx);
+        if (place_ != nullptr) place_->AddAfterMapping(*new_kf, map_);
+        if (loop_ != nullptr) loop_->Process(new_kf->id, *place_);
       }
       ctx.new_keyframe_edit = nullptr;
     }

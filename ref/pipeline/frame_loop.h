@@ -15,6 +15,7 @@
 
 #include "features/keypoint_extractor.h"
 #include "map/map.h"
+#include "loop/loop_closer.h"
 #include "mapping/local_mapper.h"
 #include "mapping/mapping_clock.h"
 #include "method/session.h"
@@ -22,6 +23,7 @@
 #include "pipeline/pipeline.h"
 #include "pipeline/run_inputs.h"
 #include "trace/trace_writer.h"
+#include "tracking/place_index.h"
 #include "tracking/tracker.h"
 
 namespace dynref {
@@ -77,6 +79,10 @@ class FrameLoop {
   tracking::Tracker tracker_;
   mapping::LocalMapper mapper_;
   std::unique_ptr<structure::StructureTracker> structure_;  // lines / planes (issue 13), else nullptr
+  // Vocabulary + keyframe database (issue 34) when the backbone uses one, else nullptr. A keyframe
+  // joins after its local mapping (ORB-SLAM2 adds it in LoopClosing), bad ones leave first.
+  std::unique_ptr<tracking::PlaceIndex> place_;
+  std::unique_ptr<loop::LoopCloser> loop_;  // backbone.loop_closing (issue 34), after local mapping
   mapping::MappingClock mapping_clock_;  // when local mapping counts as busy (issue 18)
   int clock_options_max_queue_;
   double (*now_)();  // module timing clock

@@ -43,6 +43,7 @@ Param ReadParam(const YAML::Node& node, const std::string& key, const std::strin
   Param p;
   p.file = file;
   p.line = LineOf(node);
+  p.name = key;
   if (!node.IsMap()) throw InputError(file, p.line, key + ": expected {value: ..., source: \"...\"}");
   RejectDuplicateKeys(node, file, key + ": ");
   for (const auto& kv : node) {
@@ -101,7 +102,7 @@ MethodConfig ParseMethodConfig(const YAML::Node& root, const std::string& path) 
       bool known = false;
       for (const BackboneKeyInfo& d : BackboneKeys()) known = known || k == d.key;
       if (!known) throw InputError(path, LineOf(kv.first), "unknown backbone key '" + k + "'");
-      given[k] = ReadParam(kv.second, k, path);
+      given[k] = ReadParam(kv.second, "backbone." + k, path);
     }
   }
   cfg.backbone = ResolveBackbone(given, path, &cfg.backbone_params);
@@ -199,6 +200,60 @@ void MethodConfig::SetBackboneParam(const std::string& key, const std::string& v
   it->second.value = value;
   it->second.list.clear();
   it->second.source = source;
+  backbone = ResolveBackbone(backbone_params, path, &backbone_params);
+}
+
+namespace {
+
+// A --set value: "[a, b]" is a list of scalars (YAML flow syntax), anything else one scalar.
+void SetValue(Param& p, const std::string& item, const std::string& value) {
+  p.value = value;
+  p.list.clear();
+  if (value.empty() || value.front() != '[') return;
+  YAML::Node n;
+  try {
+    n = YAML::Load(value);
+  } catch (const YAML::Exception& e) {
+    throw InputError(item, "a list value must be [a, b, ...]: " + e.msg);
+  }
+  if (!n.IsSequence()) throw InputError(item, "a list value must be [a, b, ...]");
+  for (const auto& e : n) {
+    if (!e.IsScalar()) throw InputError(item, "list values must be scalars");
+    p.list.push_back(e.as<std::string>());
+  }
+  p.value.clear();
+}
+
+}  // namespace
+
+void MethodConfig::ApplySets(const std::vector<std::string>& items, const std::string& source) {
+  for (const std::string& item : items) {
+    // The stage name has dots itself (sgdo.depth): the key is after the last one.
+    const size_t eq = item.find('=');
+    const size_t dot = eq == std::string::npos ? std::string::npos : item.rfind('.', eq);
+    if (eq == std::string::npos || dot == std::string::npos || dot == 0 || eq == dot + 1)
+      throw InputError("--set", "'" + item + "' is not STAGE.KEY=VALUE (e.g. sgdo.depth.eta=0.05)");
+    const std::string where = "--set " + item;
+    const std::string stage = item.substr(0, dot), key = item.substr(dot + 1, eq - dot - 1);
+    Param* p = nullptr;
+    if (stage == "backbone") {
+      auto it = backbone_params.find(key);
+      if (it == backbone_params.end()) throw InputError(where, "unknown backbone key '" + key + "'");
+      p = &it->second;
+    } else {
+      StageConfig* sc = nullptr;
+      for (StageConfig& s : stages) sc = s.name == stage ? &s : sc;
+      if (sc == nullptr) throw InputError(where, "no stage " + stage + " in the config " + path);
+      auto it = sc->params.params.find(key);
+      if (it == sc->params.params.end()) throw InputError(where, "stage " + stage + " has no parameter " + key);
+      p = &it->second;
+    }
+    SetValue(*p, where, item.substr(eq + 1));
+    p->source = source;
+    p->file = where;  // messages name the --set argument; relative paths are the working directory's
+    p->line = 0;
+    p->name = stage + "." + key;
+  }
   backbone = ResolveBackbone(backbone_params, path, &backbone_params);
 }
 

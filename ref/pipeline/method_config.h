@@ -30,6 +30,13 @@ struct MethodConfig {
                      const std::string& source);
   // The same for a backbone key (re-validated with the whole backbone table): `stage` "backbone".
   void SetBackboneParam(const std::string& key, const std::string& value, const std::string& source);
+  // `dynref run --set STAGE.KEY=VALUE ...` (issue 37): every item applied first, then the backbone
+  // checked once (order-free: backbone.features=onnx with backbone.onnx_model in either order); a
+  // value [a, b] is a list; each value's location is its --set argument (messages name it, a
+  // relative path in it is relative to the working directory). Stage values are checked by the
+  // run's Session like config values. InputError("--set ...") for a malformed item, an unknown
+  // stage or key.
+  void ApplySets(const std::vector<std::string>& items, const std::string& source);
 };
 
 // Reads and validates a config file (InputError naming file:line on any problem).

@@ -13,6 +13,7 @@
 #include "core/version.h"
 #include "detect/detection_source.h"
 #include "dynamic/builtin_methods.h"
+#include "method/detection_tally.h"
 #include "method/session.h"
 #include "pipeline/frame_loop.h"
 #include "pipeline/run_inputs.h"
@@ -129,6 +130,10 @@ RunResult RunSequence(const RunOptions& options) {
     result.exit_code = kExitBadInput;
   }
   for (const std::string& e : end.errors) std::cerr << "dynref run: output " << e << "\n";
+  for (const DetectionUse& u : end.detection_use) {  // issue 39: the end-of-run line and warnings
+    result.detections_summary += (result.detections_summary.empty() ? "" : "; ") + DetectionUseText(u);
+    if (u.MostDropped()) std::cerr << "dynref run: warning: " << DetectionUseWarning(u) << "\n";
+  }
   try {
     trace.Close(result.end_state);
   } catch (const std::exception& e) {  // run.json must not call a run complete without its trace
@@ -142,7 +147,8 @@ RunResult RunSequence(const RunOptions& options) {
     ro.out_dir = dir + "/overlays";
     render::RenderRunOverlays(dir, inputs.frames.front().index, inputs.frames[result.frames - 1].index, ro);
   }
-  PublishDirectory(dir, target, options.out_dir, IsReplaceableRunFolder, kNotARunFolder);
+  PublishDirectory(dir, FailedRunTarget(target, options.out_dir, result), options.out_dir, IsReplaceableRunFolder,
+                   kNotARunFolder);
   staging.Commit();
   return result;
 }

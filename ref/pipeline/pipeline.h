@@ -55,6 +55,7 @@ struct RunResult {
   std::string end_state;         // "complete", "lost-at-end", "never-initialised", "error: ..."
   int exit_code = 0;             // 0 ok, 2 bad input (see ExitCode)
   int frames = 0, tracked = 0, lost = 0, keyframes = 0;
+  std::string detections_summary;  // per thresholding stage: seen / dropped detections (issue 39)
 };
 
 // Runs the whole sequence; writes every output atomically. Bad input found before the first

@@ -66,6 +66,7 @@ void RunInputs::LoadFrame(const FrameEntry& e, const RunOptions& options, Frame&
     dets = det_reader->Read(e.rgb_stamp_text, cv::Size(camera.width, camera.height));
   } else if (det_source) {
     dets = det_source->Detect(f.rgb, e.rgb_stamp_text);
+    dets.source = det_source->name();  // the scores' scale (detect/score_calibration.h)
   }
   if (det_reader || det_source) f.detections = &dets;
 }

@@ -1,18 +1,21 @@
 #include "pipeline/run_outputs.h"
 
 #include <algorithm>
+#include <filesystem>
+#include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/version.h"
 #include "io/trajectory.h"
+#include "method/detection_tally.h"
 
 namespace dynref {
 namespace {
 
-// Median and mean over the run; mean over the first and the last min(100, n / 2) frames (issue
-// 18: does the cost per frame grow with the sequence?).
+// Median, 95th percentile (nearest rank) and mean over the run; mean over the first and the last
+// min(100, n / 2) frames (issue 18: does the cost per frame grow with the sequence?).
 nlohmann::json Summary(std::vector<double> v) {
   nlohmann::json j;
   if (v.empty()) return j;
@@ -29,6 +32,7 @@ nlohmann::json Summary(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
   j["median_ms_per_frame"] = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+  j["p95_ms_per_frame"] = v[std::min(n - 1, (95 * n + 99) / 100 - 1)];
   j["mean_ms_per_frame"] = sum / n;
   return j;
 }
@@ -134,11 +138,30 @@ void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop&
   for (const RunOutput& o : end.outputs) outputs.push_back({{"module", o.module}, {"path", o.path}, {"what", o.what}});
   j["outputs"] = outputs;
   j["output_errors"] = end.errors;
+  // Issue 39: what each thresholding stage saw and dropped, and a warning when it dropped most.
+  nlohmann::json used = nlohmann::json::array(), warnings = nlohmann::json::array();
+  for (const DetectionUse& u : end.detection_use) {
+    used.push_back({{"stage", u.stage}, {"key", u.key}, {"threshold_scale", u.scale}, {"source", u.source},
+                    {"paper_threshold", u.paper_threshold}, {"applied_threshold", u.applied_threshold},
+                    {"seen", u.seen}, {"dropped", u.dropped}});
+    if (u.MostDropped()) warnings.push_back(DetectionUseWarning(u));
+  }
+  j["detections_used"] = used;
+  j["warnings"] = warnings;
   j["end_state"] = result.end_state;
   j["dynref_version"] = DYNREF_VERSION;
   j["dynref_commit"] = DYNREF_GIT_COMMIT;
   // Paths and config sources are user text: invalid UTF-8 is written as U+FFFD, not an error.
   AtomicWriteFile(dir + "/run.json", j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+}
+
+std::string FailedRunTarget(const std::string& target, const std::string& shown, const RunResult& result) {
+  std::error_code ec;
+  if (result.exit_code == 0 || !std::filesystem::exists(std::filesystem::path(target) / "run.json", ec)) return target;
+  const std::string failed = target + ".failed";
+  std::cerr << "dynref run: " << shown << " keeps its earlier run; this failed attempt (run.json, trace.dtr) is in "
+            << failed << "\n";
+  return failed;
 }
 
 }  // namespace dynref

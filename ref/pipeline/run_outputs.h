@@ -15,4 +15,9 @@ void WriteTrajectoryFiles(const std::string& out_dir, const RunInputs& inputs, F
 void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop& loop, const SessionEnd& end,
                   const std::string& dir);
 
+// Where a run folder is published (issue 37): `target`, except that a failed run (exit code != 0)
+// never replaces a published run (target has a run.json): it goes to "<target>.failed" instead,
+// and stderr says that `shown` keeps its earlier run and where the failed attempt is.
+std::string FailedRunTarget(const std::string& target, const std::string& shown, const RunResult& result);
+
 }  // namespace dynref

@@ -13,24 +13,24 @@
 #include <string>
 #include <vector>
 
+#include "reproduce/table_registry.h"
+
 namespace dynref::reproduce {
 
-struct BlurTableArgs {
-  std::string table;              // "table1" | "table3"
-  std::string out;                // default reports/blur-<table>.md
-  std::string work;               // default dynref-work/blur (both tables)
-  int frames = 300;
-  std::vector<uint64_t> seeds = {1, 2, 3};
-  std::string detections = "sparseinst-like";
-  bool blur = true;               // --no-blur renders sharp frames (then masks drop as without blur)
-  std::vector<std::string> sequences;  // default: the table's presets
+struct BlurTableArgs : MatrixArgs {
+  BlurTableArgs() {
+    work = "dynref-work/blur";  // both tables: with --reuse the second reuses sequences and blur runs
+    detections = "sparseinst-like";
+  }
+  std::string table;  // "table1" | "table3"; out: reports/blur-<table>.md; sequences: the table's presets
+  bool blur = true;   // --no-blur renders sharp frames (then masks drop as without blur)
   std::vector<std::string> sweep = {"walking_xyz"};  // table3: dilation/theta sweeps ('none' = skip)
-  bool reuse = false;
-  bool collect = false;           // WorkMode::kCollect: only read sequences and runs already in --work
 };
 
 std::vector<std::string> BlurTableDefaultSequences(const std::string& table);
 // Checks every argument first (InputError naming the option), then runs and writes the report.
 int RunBlurTable(const BlurTableArgs& args);
+// blur-table1, blur-table3 and their options.
+void RegisterBlurTables(TableRegistry& registry);
 
 }  // namespace dynref::reproduce

@@ -4,6 +4,8 @@
 #include <map>
 #include <sstream>
 
+#include <CLI/CLI.hpp>
+
 #include "core/error.h"
 #include "core/version.h"
 #include "reproduce/arg_checks.h"
@@ -118,7 +120,21 @@ std::vector<std::string> EpiSlamDefaultSequences() {
 }
 std::vector<std::string> EpiSlamDefaultAblationSequences() { return {"walking_static", "crowd"}; }
 
-int RunEpiSlamTable(const EpiSlamTableArgs& a) {
+namespace {
+
+// The shared workspace of one epi-table3 call: the paper's tables, the configs and every run.
+struct EpiSlam {
+  const EpiSlamTableArgs& a;
+  PaperTable p3, p4, p5, p6, p7;
+  std::map<std::string, MethodConfig> cfg;
+  // grid[lighting][preset][config]
+  std::map<std::string, std::map<std::string, std::map<std::string, Cell>>> grid;
+  std::map<std::string, std::map<std::string, Cell>> timing;  // lighting -> config -> run at trace level frames
+  std::vector<RunSummary> all_runs;
+  explicit EpiSlam(const EpiSlamTableArgs& args) : a(args) {}
+};
+
+void CheckEpiSlamArgs(const EpiSlamTableArgs& a) {
   CheckMatrixArgs(a.frames, a.seeds, a.detections, a.sequences, a.reuse, a.collect);
   CheckPresetList(a.ablation_sequences, "--ablation-sequences", true);
   CheckPresetList({a.timing_sequence}, "--timing-sequence", false);
@@ -127,20 +143,16 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
     if (!listed(p)) throw InputError("--ablation-sequences", p + " is not one of --sequences");
   if (!listed(a.timing_sequence)) throw InputError("--timing-sequence", a.timing_sequence + " is not one of --sequences");
   CheckReportPaths(a.out, a.work);
-  const PaperTable p3 = ReadPaperTable(PaperTableDir() + "/004-table3.csv");
-  const PaperTable p4 = ReadPaperTable(PaperTableDir() + "/004-table4.csv");
-  const PaperTable p5 = ReadPaperTable(PaperTableDir() + "/004-table5.csv");
-  const PaperTable p6 = ReadPaperTable(PaperTableDir() + "/004-table6.csv");
-  const PaperTable p7 = ReadPaperTable(PaperTableDir() + "/004-table7.csv");
-  MakeReportFolders(a.out, a.work);
-  // The export writes keyframe images: not needed for the tables.
-  std::map<std::string, MethodConfig> cfg;
-  for (const Variant& v : AblationVariants()) cfg.emplace(v.config, LoadConfigWithout(v.config, {"epi.nerf"}));
+}
 
-  // grid[lighting][preset][config]
-  std::map<std::string, std::map<std::string, std::map<std::string, Cell>>> grid;
-  std::map<std::string, std::map<std::string, Cell>> timing;  // lighting -> config -> run at trace level frames
-  std::vector<RunSummary> all_runs;
+// Runs: every preset in both lightings (the ablation variants on the ablation presets), and the
+// timing runs at trace level frames, seed by seed.
+void RunEpiSlamMatrix(EpiSlam& t) {
+  const EpiSlamTableArgs& a = t.a;
+  auto& grid = t.grid;
+  auto& timing = t.timing;
+  auto& all_runs = t.all_runs;
+  const auto& cfg = t.cfg;
   for (uint64_t seed : a.seeds)
     for (const Lighting& l : Lightings()) {
       Workspace ws(SeedWorkDir(a.work, seed) + "/" + l.name, {a.frames, seed, a.detections, false, l.low_light}, a.reuse,
@@ -164,8 +176,11 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
         }
       }
     }
+}
 
-  std::ostringstream md;
+void WriteIntro(const EpiSlam& t, std::ostringstream& md) {
+  const EpiSlamTableArgs& a = t.a;
+  const auto& all_runs = t.all_runs;
   std::string seq_text;
   for (const std::string& p : a.sequences) seq_text += (seq_text.empty() ? "" : ",") + p;
   const std::string cmd = "dynref reproduce epi-table3 --frames " + std::to_string(a.frames) + " --seeds " +
@@ -192,7 +207,12 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
           return rows;
         }())
      << "\n";
+}
 
+void WriteTable3(EpiSlam& t, std::ostringstream& md) {
+  const EpiSlamTableArgs& a = t.a;
+  auto& grid = t.grid;
+  const PaperTable& p3 = t.p3;
   md << "## ATE statistics of epi (paper Table 3)\n\n"
      << "Per sequence the mean, median, RMSE and S.D. of the ATE of one run, averaged over the seeds; the paper's "
         "values beside.\n\n"
@@ -206,7 +226,12 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
       for (const char* stat : {"Mean", "Med", "Rmse", "Std"}) md << " " << Num(Table3Cell(p3, Names(p), stat)) << " |";
       md << " " << Tracked(c) << " |\n";
     }
+}
 
+void WriteTables45(EpiSlam& t, std::ostringstream& md) {
+  const EpiSlamTableArgs& a = t.a;
+  auto& grid = t.grid;
+  const PaperTable &p4 = t.p4, &p5 = t.p5;
   md << "\n## ATE RMSE against the paper's systems (paper Tables 4 and 5)\n\n"
      << "| Sequence | lighting | orb | epi (A + C) | epi_ALL (A + B + C) | paper ORB-SLAM3 | paper OURS (ALL) | "
         "tracked (orb / epi / epi_ALL) |\n|---|---|---|---|---|---|---|---|\n";
@@ -221,7 +246,12 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
          << Tracked(g["epi_ALL"]) << " |\n";
     }
   }
+}
 
+void WriteAblation(EpiSlam& t, std::ostringstream& md) {
+  const EpiSlamTableArgs& a = t.a;
+  auto& grid = t.grid;
+  const PaperTable& p6 = t.p6;
   if (!a.ablation_sequences.empty()) {
     md << "\n## Module ablation (paper Table 6)\n\n"
        << "A = enhancement, B = feature extraction and matching (dynref: SIFT + MNN2; the paper: modified ZippyPoint + "
@@ -242,7 +272,11 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
         md << "\n";
       }
   }
+}
 
+void WriteMaskVote(EpiSlam& t, std::ostringstream& md) {
+  const EpiSlamTableArgs& a = t.a;
+  auto& grid = t.grid;
   md << "\n## Mask vote against the ground truth (Module C; the paper has no such table)\n\n"
      << "Every mask `epi.vote` decided on (its Decision record at trace level full), per frame. Truth: the "
         "ground-truth instance under most of the mask's pixels moves in that frame (`SEQ/gt/moving.txt`); a mask "
@@ -275,7 +309,12 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
        << " %; still people kept " << s.still_person_kept << " of " << s.still_person_masks << ", moving objects removed "
        << s.moving_object_rejected << " of " << s.moving_object_masks << ".\n";
   }
+}
 
+void WriteTiming(EpiSlam& t, std::ostringstream& md) {
+  const EpiSlamTableArgs& a = t.a;
+  auto& timing = t.timing;
+  const PaperTable& p7 = t.p7;
   md << "\n## Tracking time (paper Table 7)\n\n"
      << "dynref: `epi` (A + C, ORB) and `epi_ALL` (A + B + C, SIFT + MNN2) on " << a.timing_sequence
      << " at trace level frames, one core, thread CPU ms per frame "
@@ -295,25 +334,80 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
   md << "\n| paper system | GPU | average tracking time (ms) |\n|---|---|---|\n";
   for (const std::vector<std::string>& row : p7.ordered)
     if (row.size() >= 3) md << "| " << row[0] << " | " << row[1] << " | " << row[2] << " |\n";
+}
+
+// The paper's notes, the ATE bars and the per-seed section; writes the report.
+void FinishEpiSlamReport(EpiSlam& t, std::ostringstream& md) {
+  const EpiSlamTableArgs& a = t.a;
+  auto& grid = t.grid;
+  const PaperTable &p3 = t.p3, &p4 = t.p4, &p5 = t.p5, &p6 = t.p6, &p7 = t.p7;
   md << PaperNotes("004-table3.csv", p3.notes) << PaperNotes("004-table4.csv", p4.notes)
      << PaperNotes("004-table5.csv", p5.notes) << PaperNotes("004-table6.csv", p6.notes)
      << PaperNotes("004-table7.csv", p7.notes);
-  {
-    std::vector<SeedSeries> ours;
-    for (const char* config : {"orb", "epi", "epi_ALL"})
-      for (const Lighting& l : Lightings()) {
-        SeedSeries s{std::string(config) + ", " + l.label, {}};
-        for (const std::string& p : a.sequences) s.per_group.push_back(grid[l.name][p][config].rmse);
-        ours.push_back(s);
-      }
-    std::vector<PaperSeries> paper;
-    PaperSeries ps{"paper OURS (ALL)", {}, 2};
-    for (const std::string& p : a.sequences)
-      ps.per_group.push_back((Names(p).bonn ? p5 : p4).Cell(Names(p).table45, "OURS"));
-    paper.push_back(ps);
-    FinishAteReport(md.str(), a.sequences, ours, paper, 0, SeedListText(a.seeds), a.out);
-  }
+  std::vector<SeedSeries> ours;
+  for (const char* config : {"orb", "epi", "epi_ALL"})
+    for (const Lighting& l : Lightings()) {
+      SeedSeries s{std::string(config) + ", " + l.label, {}};
+      for (const std::string& p : a.sequences) s.per_group.push_back(grid[l.name][p][config].rmse);
+      ours.push_back(s);
+    }
+  std::vector<PaperSeries> paper;
+  PaperSeries ps{"paper OURS (ALL)", {}, 2};
+  for (const std::string& p : a.sequences)
+    ps.per_group.push_back((Names(p).bonn ? p5 : p4).Cell(Names(p).table45, "OURS"));
+  paper.push_back(ps);
+  FinishAteReport(md.str(), a.sequences, ours, paper, 0, SeedListText(a.seeds), a.out);
+}
+
+}  // namespace
+
+int RunEpiSlamTable(const EpiSlamTableArgs& a) {
+  CheckEpiSlamArgs(a);
+  EpiSlam t(a);
+  t.p3 = ReadPaperTable(PaperTableDir() + "/004-table3.csv");
+  t.p4 = ReadPaperTable(PaperTableDir() + "/004-table4.csv");
+  t.p5 = ReadPaperTable(PaperTableDir() + "/004-table5.csv");
+  t.p6 = ReadPaperTable(PaperTableDir() + "/004-table6.csv");
+  t.p7 = ReadPaperTable(PaperTableDir() + "/004-table7.csv");
+  MakeReportFolders(a.out, a.work);
+  // The export writes keyframe images: not needed for the tables.
+  for (const Variant& v : AblationVariants()) t.cfg.emplace(v.config, LoadConfigWithout(v.config, {"epi.nerf"}));
+  RunEpiSlamMatrix(t);
+  std::ostringstream md;
+  WriteIntro(t, md);
+  WriteTable3(t, md);
+  WriteTables45(t, md);
+  WriteAblation(t, md);
+  WriteMaskVote(t, md);
+  WriteTiming(t, md);
+  FinishEpiSlamReport(t, md);
   return kExitOk;
+}
+
+void RegisterEpiSlamTables(TableRegistry& registry) {
+  registry.Add(
+      {"epi-table3", "004 enhanced-epipolar SLAM",
+       "Tables 3-7: ATE of orb / epi on TUM and Bonn analogues, normal and low light, A/C ablation, mask-vote "
+       "accuracy, ms/frame",
+       "Seed 004 Tables 3-7: ATE of orb and epi (A + C) on TUM/Bonn analogues in normal and low light, "
+       "the A/C ablation, Module C's mask-vote accuracy against the ground truth, ms/frame, over seeds",
+       [](CLI::App& app) {
+         auto e = std::make_shared<EpiSlamTableArgs>();
+         e->sequences = EpiSlamDefaultSequences();
+         e->ablation_sequences = EpiSlamDefaultAblationSequences();
+         MatrixHelp help;
+         help.work = "Working folder <work>/seed<S>/<lighting>/{seq,runs}";
+         help.detections = "Synthetic detection mode (default yolo-like)";
+         help.sequences = "Presets (default the paper's TUM and Bonn analogues)";
+         AddMatrixOptions(app, *e, help);
+         app.add_option("--ablation-sequences", e->ablation_sequences,
+                        "Presets of the A/C ablation (default walking_static,crowd)")
+             ->delimiter(',');
+         app.add_option("--timing-sequence", e->timing_sequence, "Preset of the Table 7 timing runs (default walking_xyz)");
+         AddReuseCollect(app, *e, "Reuse sequences/runs of an earlier call with identical inputs",
+                         "Only read: sequences and runs already in --work");
+         return TableCommand{e, [e] { return RunEpiSlamTable(*e); }};
+       }});
 }
 
 }  // namespace dynref::reproduce

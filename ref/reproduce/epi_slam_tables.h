@@ -13,24 +13,24 @@
 #include <string>
 #include <vector>
 
+#include "reproduce/table_registry.h"
+
 namespace dynref::reproduce {
 
-struct EpiSlamTableArgs {
-  std::string out = "reports/epi-table3.md";
-  std::string work = "dynref-work/epi-slam";
-  int frames = 300;
-  std::vector<uint64_t> seeds = {1, 2, 3};
-  std::string detections = "yolo-like";
-  std::vector<std::string> sequences;           // default: EpiSlamDefaultSequences()
+struct EpiSlamTableArgs : MatrixArgs {  // sequences: default EpiSlamDefaultSequences()
+  EpiSlamTableArgs() {
+    out = "reports/epi-table3.md";
+    work = "dynref-work/epi-slam";
+  }
   std::vector<std::string> ablation_sequences;  // default: walking_static, crowd (paper Table 6)
   std::string timing_sequence = "walking_xyz";  // Table 7 runs
-  bool reuse = false;
-  bool collect = false;
 };
 
 std::vector<std::string> EpiSlamDefaultSequences();
 std::vector<std::string> EpiSlamDefaultAblationSequences();
 // Checks every argument first (InputError naming the option), then runs and writes the report.
 int RunEpiSlamTable(const EpiSlamTableArgs& args);
+// epi-table3 and its options.
+void RegisterEpiSlamTables(TableRegistry& registry);
 
 }  // namespace dynref::reproduce

@@ -13,20 +13,23 @@
 #include <string>
 #include <vector>
 
+#include "reproduce/table_registry.h"
+
 namespace dynref::reproduce {
 
-struct EpiTableArgs {
-  std::string table;             // "table1" | "table2"
-  std::string out;               // default reports/epi-<table>.md
-  std::string work = "dynref-work/epi";
-  int frames = 60;
-  int gap = 5;                   // table2: frame distance of a pair
-  int features = 500;            // table2: features per image (paper Sec. 4.2: 500)
-  double correct_px = 3.0;       // table2: a match is correct within this distance of the truth (not stated)
-  std::vector<uint64_t> seeds = {1, 2, 3};
-  bool reuse = false;
+struct EpiTableArgs : MatrixArgs {  // no detections, sequences or --collect
+  EpiTableArgs() {
+    work = "dynref-work/epi";
+    frames = 60;
+  }
+  std::string table;        // "table1" | "table2"; out: reports/epi-<table>.md
+  int gap = 5;              // table2: frame distance of a pair
+  int features = 500;       // table2: features per image (paper Sec. 4.2: 500)
+  double correct_px = 3.0;  // table2: a match is correct within this distance of the truth (not stated)
 };
 
 int RunEpiTable(const EpiTableArgs& args);
+// epi-table1, epi-table2 and their options.
+void RegisterEpiTables(TableRegistry& registry);
 
 }  // namespace dynref::reproduce

@@ -3,6 +3,8 @@
 #include <map>
 #include <sstream>
 
+#include <CLI/CLI.hpp>
+
 #include "core/error.h"
 #include "core/version.h"
 #include "reproduce/arg_checks.h"
@@ -87,23 +89,34 @@ std::vector<std::string> MgdTableDefaultSequences(const std::string& table) {
           "walking_halfsphere", "walking_rpy", "walking_static", "walking_xyz"};
 }
 
-int RunMgdTable(const MgdTableArgs& a) {
-  CheckArgs(a);
-  const PaperTable p2 = ReadPaperTable(PaperTableDir() + "/000-table2.csv");
-  const PaperTable p4 = ReadPaperTable(PaperTableDir() + "/000-table4.csv");
-  const PaperTable p5 = ReadPaperTable(PaperTableDir() + "/000-table5.csv");
-  const PaperTable p6 = ReadPaperTable(PaperTableDir() + "/000-table6.csv");
-  MakeReportFolders(a.out, a.work);
-  const bool ablations = a.table == "table2" && !a.no_ablations;
+namespace {
+
+// Paper columns printed beside ours (Tables 4 and 5 also have MWSLAM, which dynref does not run).
+const std::vector<std::string> kPaperCols2 = {"ORB-SLAM3", "MGD-SLAM"};
+const std::vector<std::string> kPaperCols4 = {"ORB-SLAM3", "MWSLAM", "MGD-SLAM-nD", "MGD-SLAM"};
+
+// The shared workspace of one MGD table: paper tables, variants, configs and every run.
+struct MgdRun {
+  const MgdTableArgs& a;
+  PaperTable p2, p4, p5, p6;
+  bool ablations = false;  // table2 without --no-ablations: the cue variants at trace level full
   const std::vector<MgdVariant>& main = MainVariants();
   const std::vector<MgdVariant>& cues = CueVariants();
   std::vector<MethodConfig> main_cfg, cue_cfg;
-  for (const MgdVariant& v : main) main_cfg.push_back(LoadConfigWithout(v.config, {}));
-  for (const MgdVariant& v : cues) cue_cfg.push_back(LoadConfigWithout(v.config, {}));
-
   Grid grid, cue_grid;
-  for (const std::string& p : a.sequences) grid[p].resize(main.size()), cue_grid[p].resize(cues.size());
   std::vector<RunSummary> all_runs;
+  explicit MgdRun(const MgdTableArgs& args) : a(args) {}
+};
+
+// Runs: the main variants at trace level frames, the cue ablations at level full, seed by seed.
+void RunMgdMatrix(MgdRun& t) {
+  const MgdTableArgs& a = t.a;
+  const auto &main = t.main, &cues = t.cues;
+  const auto &main_cfg = t.main_cfg, &cue_cfg = t.cue_cfg;
+  auto &grid = t.grid, &cue_grid = t.cue_grid;
+  auto& all_runs = t.all_runs;
+  const bool ablations = t.ablations;
+  for (const std::string& p : a.sequences) grid[p].resize(main.size()), cue_grid[p].resize(cues.size());
   for (uint64_t seed : a.seeds) {
     Workspace ws(SeedWorkDir(a.work, seed), {a.frames, seed, a.detections}, a.reuse,
                  a.collect ? WorkMode::kCollect : WorkMode::kMake);
@@ -123,8 +136,11 @@ int RunMgdTable(const MgdTableArgs& a) {
       }
     }
   }
+}
 
-  std::ostringstream md;
+void WriteIntro(const MgdRun& t, std::ostringstream& md) {
+  const MgdTableArgs& a = t.a;
+  const auto& all_runs = t.all_runs;
   const std::string cmd = "dynref reproduce mgd-" + a.table + " --frames " + std::to_string(a.frames) + " --seeds " +
                           SeedListText(a.seeds) + " --detections " + a.detections + (a.no_ablations ? " --no-ablations" : "");
   md << "# MGD-SLAM (seed 000) " << (a.table == "table2" ? "Table 2" : "Tables 4-6") << " on synthetic sequences\n\n"
@@ -146,116 +162,185 @@ int RunMgdTable(const MgdTableArgs& a) {
           return rows;
         }())
      << "\n";
+}
 
-  // ATE (Table 2 / Table 4) or RPE (Table 5) of the main variants with the paper's columns.
-  // Paper columns printed beside ours (Table 4 and 5 also have MWSLAM, which dynref does not run).
-  const std::vector<std::string> paper_cols2 = {"ORB-SLAM3", "MGD-SLAM"};
-  const std::vector<std::string> paper_cols4 = {"ORB-SLAM3", "MWSLAM", "MGD-SLAM-nD", "MGD-SLAM"};
-  const auto value_table = [&](bool rpe, const PaperTable& paper, const std::vector<std::string>& paper_cols) {
-    md << "| Sequence |";
-    for (const MgdVariant& v : main) md << " " << v.label << " |";
-    for (const std::string& c : paper_cols) md << " paper " << c << " |";
-    md << " mgd-nd / mgd | tracked (orb / mgd-nd / mgd) |\n|---|";
-    for (size_t i = 0; i < main.size() + paper_cols.size() + 2; ++i) md << "---|";
-    md << "\n";
-    for (const std::string& preset : a.sequences) {
-      const std::vector<Cell>& cs = grid[preset];
-      md << "| " << preset << (PaperRow(preset).empty() ? "" : " (" + PaperRow(preset) + ")") << " |";
-      for (const Cell& c : cs) md << " " << MeanSd(rpe ? c.rpe : c.ate) << " |";
-      for (const std::string& col : paper_cols) md << " " << Num(paper.Cell(PaperRow(preset), col), 3) << " |";
-      md << " " << Num(Mean(rpe ? cs[1].rpe : cs[1].ate) / Mean(rpe ? cs[2].rpe : cs[2].ate), 1) << "x |";
-      for (size_t v = 0; v < cs.size(); ++v)
-        md << (v ? " / " : " ") << Pct(cs[v].tracked, cs[v].frames) << " %";
-      md << " |\n";
+// ATE (Table 2 / Table 4) or RPE (Table 5) of the main variants with the paper's columns.
+void WriteValueTable(MgdRun& t, std::ostringstream& md, bool rpe, const PaperTable& paper,
+                     const std::vector<std::string>& paper_cols) {
+  const MgdTableArgs& a = t.a;
+  const auto& main = t.main;
+  auto& grid = t.grid;
+  md << "| Sequence |";
+  for (const MgdVariant& v : main) md << " " << v.label << " |";
+  for (const std::string& c : paper_cols) md << " paper " << c << " |";
+  md << " mgd-nd / mgd | tracked (orb / mgd-nd / mgd) |\n|---|";
+  for (size_t i = 0; i < main.size() + paper_cols.size() + 2; ++i) md << "---|";
+  md << "\n";
+  for (const std::string& preset : a.sequences) {
+    const std::vector<Cell>& cs = grid[preset];
+    md << "| " << preset << (PaperRow(preset).empty() ? "" : " (" + PaperRow(preset) + ")") << " |";
+    for (const Cell& c : cs) md << " " << MeanSd(rpe ? c.rpe : c.ate) << " |";
+    for (const std::string& col : paper_cols) md << " " << Num(paper.Cell(PaperRow(preset), col), 3) << " |";
+    md << " " << Num(Mean(rpe ? cs[1].rpe : cs[1].ate) / Mean(rpe ? cs[2].rpe : cs[2].ate), 1) << "x |";
+    for (size_t v = 0; v < cs.size(); ++v)
+      md << (v ? " / " : " ") << Pct(cs[v].tracked, cs[v].frames) << " %";
+    md << " |\n";
+  }
+}
+
+// Table 2's cue ablations: dynamic point / line precision, recall, F1 against the truth.
+void WriteCueAblations(MgdRun& t, std::ostringstream& md) {
+  const MgdTableArgs& a = t.a;
+  const auto& cues = t.cues;
+  auto& cue_grid = t.cue_grid;
+  md << "\n## Dynamic features against the ground-truth motion labels (paper: no such table)\n\n"
+     << "Each variant traced at level full; a point is rejected when a stage's decision removes it "
+     << "(P > tau_dyn), a line when its line-sample decision does (max(P_s, P_m, P_e) > tau_dyn). Truth: the "
+     << "feature's pixel (a line's midpoint) belongs to a moving instance (`SEQ/gt/moving.txt`), or, for "
+     << "'moving part', its pixel itself moves (`SEQ/gt/motion/`). Counts summed over all frames and seeds; "
+     << "precision / recall / F1 in %. The full traces are deleted once counted (`RUN/rejection.json` keeps "
+     << "the counts).\n\n"
+     << "| Sequence | Variant | ATE RMSE (m) | points: precision | recall | F1 | points, moving part: precision | "
+        "recall | F1 | lines: precision | recall | F1 | lines, moving part: precision | recall | F1 |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  std::vector<RunSummary> total(cues.size());
+  for (const std::string& preset : a.sequences)
+    for (size_t v = 0; v < cues.size(); ++v) {
+      const Cell& c = cue_grid[preset][v];
+      const RunSummary& r = c.pr;
+      md << "| " << preset << " | " << cues[v].label << " | " << MeanSd(c.ate) << " | "
+         << Prf(r.tp, r.fp, r.fn) << " | " << Prf(r.part_tp, r.part_fp, r.part_fn) << " | "
+         << Prf(r.line_tp, r.line_fp, r.line_fn) << " | " << Prf(r.line_part_tp, r.line_part_fp, r.line_part_fn)
+         << " |\n";
+      AddRejectionCounts(total[v], r);
     }
-  };
+  md << "\n### All sequences together\n\n| Variant | points: precision | recall | F1 | points, moving part: "
+        "precision | recall | F1 | lines: precision | recall | F1 | lines, moving part: precision | recall | F1 |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  size_t best = 1;
+  for (size_t v = 0; v < cues.size(); ++v) {
+    const RunSummary& s = total[v];
+    md << "| " << cues[v].label << " | " << Prf(s.tp, s.fp, s.fn) << " | " << Prf(s.part_tp, s.part_fp, s.part_fn)
+       << " | " << Prf(s.line_tp, s.line_fp, s.line_fn) << " | "
+       << Prf(s.line_part_tp, s.line_part_fp, s.line_part_fn) << " |\n";
+    if (v >= 1 && v <= 3 && F1(s.tp, s.fp, s.fn) > F1(total[best].tp, total[best].fp, total[best].fn)) best = v;
+  }
+  md << "\nSingle cue with the highest point F1 over all sequences: **" << cues[best].label << "**.\n";
+}
 
+// Table 6: per-module CPU ms per frame of mgd.
+void WriteModuleTimes(MgdRun& t, std::ostringstream& md) {
+  const MgdTableArgs& a = t.a;
+  auto& grid = t.grid;
+  const PaperTable& p6 = t.p6;
+  md << "\n## Per-module CPU ms per frame of MGD-SLAM (paper Table 6)\n\n"
+     << "dynref: one core, thread CPU time, trace level frames (`run.json` `timing`, `timing_stages`), mean over "
+     << "seeds. Feature extraction = ORB + lines (FLD + LBD) + planes (AHC); dynamic removal = the mgd.* stages "
+     << "(boxes, probabilities, reprojection cue at keyframes); tracking total = extraction + tracking thread "
+     << "(dynamic removal included; local mapping runs in the same thread here and is listed apart). No detector "
+     << "runs: the boxes are synthetic (the paper's YOLO, asynchronous, 12 ms). The paper: AMD Ryzen 7 5800H.\n\n"
+     << "| Sequence | ORB | lines | planes | feature extraction | dynamic removal | tracking total | "
+        "local mapping + BA | paper extraction | paper removal | paper detection | paper tracking total |\n"
+     << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const std::string& preset : a.sequences) {
+    const Cell& c = grid[preset][2];
+    const auto ms = [&](const char* m) { return c.ms.count(m) ? Mean(c.ms.at(m)) : std::nan(""); };
+    const double ex = ms("extraction"), li = ms("lines"), pl = ms("planes"), st = ms("stages"), tr = ms("tracking");
+    md << "| " << preset << " | " << Num(ex - li - pl, 1) << " | " << Num(li, 1) << " | " << Num(pl, 1) << " | "
+       << Num(ex, 1) << " | " << Num(st, 1) << " | " << Num(ex + tr, 1) << " | "
+       << Num(ms("local_mapping") + ms("ba"), 1) << " |";
+    for (const char* row : {"Multi-granularity feature extraction", "Dynamic feature removal",
+                            "Semantic detection (asynchronous)", "Total tracking time"})
+      md << " " << Num(p6.Cell(row, "Average Time (ms)"), 0) << " |";
+    md << "\n";
+  }
+}
+
+// The ATE bars and the per-seed section; writes the report.
+void FinishMgdReport(MgdRun& t, std::ostringstream& md) {
+  const MgdTableArgs& a = t.a;
+  const auto& main = t.main;
+  auto& grid = t.grid;
+  const PaperTable &p2 = t.p2, &p4 = t.p4;
+  std::vector<SeedSeries> ours;
+  std::vector<PaperSeries> paper;
+  for (size_t v = 0; v < main.size(); ++v) {
+    SeedSeries s{main[v].label, {}};
+    for (const std::string& preset : a.sequences) s.per_group.push_back(grid[preset][v].ate);
+    ours.push_back(s);
+    const std::string col = a.table == "table2" ? main[v].paper2 : main[v].paper4;
+    if (col.empty()) continue;
+    PaperSeries p{"paper " + col, {}, v};
+    for (const std::string& preset : a.sequences) p.per_group.push_back((a.table == "table2" ? p2 : p4).Cell(PaperRow(preset), col));
+    paper.push_back(p);
+  }
+  FinishAteReport(md.str(), a.sequences, ours, paper, 0, SeedListText(a.seeds), a.out);
+}
+
+}  // namespace
+
+int RunMgdTable(const MgdTableArgs& a) {
+  CheckArgs(a);
+  MgdRun t(a);
+  t.p2 = ReadPaperTable(PaperTableDir() + "/000-table2.csv");
+  t.p4 = ReadPaperTable(PaperTableDir() + "/000-table4.csv");
+  t.p5 = ReadPaperTable(PaperTableDir() + "/000-table5.csv");
+  t.p6 = ReadPaperTable(PaperTableDir() + "/000-table6.csv");
+  MakeReportFolders(a.out, a.work);
+  t.ablations = a.table == "table2" && !a.no_ablations;
+  for (const MgdVariant& v : t.main) t.main_cfg.push_back(LoadConfigWithout(v.config, {}));
+  for (const MgdVariant& v : t.cues) t.cue_cfg.push_back(LoadConfigWithout(v.config, {}));
+  RunMgdMatrix(t);
+  std::ostringstream md;
+  WriteIntro(t, md);
   if (a.table == "table2") {
     md << "## ATE RMSE (m) (paper Table 2)\n\n";
-    value_table(false, p2, paper_cols2);
-    if (ablations) {
-      md << "\n## Dynamic features against the ground-truth motion labels (paper: no such table)\n\n"
-         << "Each variant traced at level full; a point is rejected when a stage's decision removes it "
-         << "(P > tau_dyn), a line when its line-sample decision does (max(P_s, P_m, P_e) > tau_dyn). Truth: the "
-         << "feature's pixel (a line's midpoint) belongs to a moving instance (`SEQ/gt/moving.txt`), or, for "
-         << "'moving part', its pixel itself moves (`SEQ/gt/motion/`). Counts summed over all frames and seeds; "
-         << "precision / recall / F1 in %. The full traces are deleted once counted (`RUN/rejection.json` keeps "
-         << "the counts).\n\n"
-         << "| Sequence | Variant | ATE RMSE (m) | points: precision | recall | F1 | points, moving part: precision | "
-            "recall | F1 | lines: precision | recall | F1 | lines, moving part: precision | recall | F1 |\n"
-         << "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-      std::vector<RunSummary> total(cues.size());
-      for (const std::string& preset : a.sequences)
-        for (size_t v = 0; v < cues.size(); ++v) {
-          const Cell& c = cue_grid[preset][v];
-          const RunSummary& t = c.pr;
-          md << "| " << preset << " | " << cues[v].label << " | " << MeanSd(c.ate) << " | "
-             << Prf(t.tp, t.fp, t.fn) << " | " << Prf(t.part_tp, t.part_fp, t.part_fn) << " | "
-             << Prf(t.line_tp, t.line_fp, t.line_fn) << " | " << Prf(t.line_part_tp, t.line_part_fp, t.line_part_fn)
-             << " |\n";
-          AddRejectionCounts(total[v], t);
-        }
-      md << "\n### All sequences together\n\n| Variant | points: precision | recall | F1 | points, moving part: "
-            "precision | recall | F1 | lines: precision | recall | F1 | lines, moving part: precision | recall | F1 |\n"
-         << "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-      size_t best = 1;
-      for (size_t v = 0; v < cues.size(); ++v) {
-        const RunSummary& s = total[v];
-        md << "| " << cues[v].label << " | " << Prf(s.tp, s.fp, s.fn) << " | " << Prf(s.part_tp, s.part_fp, s.part_fn)
-           << " | " << Prf(s.line_tp, s.line_fp, s.line_fn) << " | "
-           << Prf(s.line_part_tp, s.line_part_fp, s.line_part_fn) << " |\n";
-        if (v >= 1 && v <= 3 && F1(s.tp, s.fp, s.fn) > F1(total[best].tp, total[best].fp, total[best].fn)) best = v;
-      }
-      md << "\nSingle cue with the highest point F1 over all sequences: **" << cues[best].label << "**.\n";
-    }
-    md << PaperNotes("000-table2.csv", p2.notes);
+    WriteValueTable(t, md, false, t.p2, kPaperCols2);
+    if (t.ablations) WriteCueAblations(t, md);
+    md << PaperNotes("000-table2.csv", t.p2.notes);
   } else {
     md << "## ATE RMSE (m) (paper Table 4)\n\n";
-    value_table(false, p4, paper_cols4);
+    WriteValueTable(t, md, false, t.p4, kPaperCols4);
     md << "\n## RPE (paper Table 5)\n\n"
        << "dynref: translational RPE RMSE in m over 1 s (evaluate_rpe.py --fixed_delta --delta 1). The paper prints "
        << "'rad' and does not state its interval (see the notes), so only the ordering of the columns compares.\n\n";
-    value_table(true, p5, paper_cols4);
-    md << "\n## Per-module CPU ms per frame of MGD-SLAM (paper Table 6)\n\n"
-       << "dynref: one core, thread CPU time, trace level frames (`run.json` `timing`, `timing_stages`), mean over "
-       << "seeds. Feature extraction = ORB + lines (FLD + LBD) + planes (AHC); dynamic removal = the mgd.* stages "
-       << "(boxes, probabilities, reprojection cue at keyframes); tracking total = extraction + tracking thread "
-       << "(dynamic removal included; local mapping runs in the same thread here and is listed apart). No detector "
-       << "runs: the boxes are synthetic (the paper's YOLO, asynchronous, 12 ms). The paper: AMD Ryzen 7 5800H.\n\n"
-       << "| Sequence | ORB | lines | planes | feature extraction | dynamic removal | tracking total | "
-          "local mapping + BA | paper extraction | paper removal | paper detection | paper tracking total |\n"
-       << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
-    for (const std::string& preset : a.sequences) {
-      const Cell& c = grid[preset][2];
-      const auto ms = [&](const char* m) { return c.ms.count(m) ? Mean(c.ms.at(m)) : std::nan(""); };
-      const double ex = ms("extraction"), li = ms("lines"), pl = ms("planes"), st = ms("stages"), tr = ms("tracking");
-      md << "| " << preset << " | " << Num(ex - li - pl, 1) << " | " << Num(li, 1) << " | " << Num(pl, 1) << " | "
-         << Num(ex, 1) << " | " << Num(st, 1) << " | " << Num(ex + tr, 1) << " | "
-         << Num(ms("local_mapping") + ms("ba"), 1) << " |";
-      for (const char* row : {"Multi-granularity feature extraction", "Dynamic feature removal",
-                              "Semantic detection (asynchronous)", "Total tracking time"})
-        md << " " << Num(p6.Cell(row, "Average Time (ms)"), 0) << " |";
-      md << "\n";
-    }
-    md << PaperNotes("000-table4.csv", p4.notes) << PaperNotes("000-table5.csv", p5.notes)
-       << PaperNotes("000-table6.csv", p6.notes);
+    WriteValueTable(t, md, true, t.p5, kPaperCols4);
+    WriteModuleTimes(t, md);
+    md << PaperNotes("000-table4.csv", t.p4.notes) << PaperNotes("000-table5.csv", t.p5.notes)
+       << PaperNotes("000-table6.csv", t.p6.notes);
   }
-  {  // ATE per sequence and variant (mean +- S.D. over seeds), paper lighter; the per-seed table.
-    std::vector<SeedSeries> ours;
-    std::vector<PaperSeries> paper;
-    for (size_t v = 0; v < main.size(); ++v) {
-      SeedSeries s{main[v].label, {}};
-      for (const std::string& preset : a.sequences) s.per_group.push_back(grid[preset][v].ate);
-      ours.push_back(s);
-      const std::string col = a.table == "table2" ? main[v].paper2 : main[v].paper4;
-      if (col.empty()) continue;
-      PaperSeries p{"paper " + col, {}, v};
-      for (const std::string& preset : a.sequences) p.per_group.push_back((a.table == "table2" ? p2 : p4).Cell(PaperRow(preset), col));
-      paper.push_back(p);
-    }
-    FinishAteReport(md.str(), a.sequences, ours, paper, 0, SeedListText(a.seeds), a.out);
-  }
+  FinishMgdReport(t, md);
   return kExitOk;
+}
+
+void RegisterMgdTables(TableRegistry& registry) {
+  const auto add = [](const std::string& table) {
+    return [table](CLI::App& app) {
+      auto m = std::make_shared<MgdTableArgs>();
+      m->table = table;
+      m->out = "reports/mgd-" + table + ".md";
+      m->sequences = MgdTableDefaultSequences(table);
+      MatrixHelp help;
+      help.work = "Working folder <work>/seed<S>/{seq,runs}, shared by mgd-table2/4";
+      help.detections = "Synthetic detection mode (default yolo-like)";
+      help.sequences = "Presets (default the table's)";
+      AddMatrixOptions(app, *m, help);
+      if (table == "table2")
+        app.add_flag("--no-ablations", m->no_ablations, "Skip the cue ablations and the precision/recall runs");
+      AddReuseCollect(app, *m, "Reuse sequences/runs of an earlier call with identical inputs",
+                      "Only read: sequences and runs already in --work");
+      return TableCommand{m, [m] { return RunMgdTable(*m); }};
+    };
+  };
+  registry.Add({"mgd-table2", "000 MGD-SLAM",
+                "ATE of orb, mgd-nd and mgd on 8 walking/sitting analogues; dynamic point/line P/R/F1 per cue ablation",
+                "MGD-SLAM Table 2: ATE of orb, mgd-nd, mgd on 8 synthetic walking/sitting analogues, and "
+                "dynamic point/line precision/recall/F1 of mgd and its cue ablations, over seeds",
+                add("table2")});
+  registry.Add({"mgd-table4", "000 MGD-SLAM", "Tables 4-6: MGD-SLAM-nD ablation ATE and RPE on walking, per-module ms/frame",
+                "MGD-SLAM Tables 4-6: MGD-SLAM-nD ablation ATE and RPE on the walking analogues, "
+                "per-module ms/frame of mgd, over seeds",
+                add("table4")});
 }
 
 }  // namespace dynref::reproduce

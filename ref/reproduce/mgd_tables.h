@@ -13,23 +13,20 @@
 #include <string>
 #include <vector>
 
+#include "reproduce/table_registry.h"
+
 namespace dynref::reproduce {
 
-struct MgdTableArgs {
-  std::string table;                   // "table2" | "table4"
-  std::string out;                     // default reports/mgd-<table>.md
-  std::string work = "dynref-work/mgd";
-  int frames = 300;
-  std::vector<uint64_t> seeds = {1, 2, 3};
-  std::string detections = "yolo-like";
-  std::vector<std::string> sequences;  // default: the table's presets
-  bool no_ablations = false;           // table2: skip the cue ablations and precision/recall runs
-  bool reuse = false;
-  bool collect = false;
+struct MgdTableArgs : MatrixArgs {  // sequences: default the table's presets
+  MgdTableArgs() { work = "dynref-work/mgd"; }
+  std::string table;          // "table2" | "table4"; out: reports/mgd-<table>.md
+  bool no_ablations = false;  // table2: skip the cue ablations and precision/recall runs
 };
 
 std::vector<std::string> MgdTableDefaultSequences(const std::string& table);
 // Checks every argument first (InputError naming the option), then runs and writes the report.
 int RunMgdTable(const MgdTableArgs& args);
+// mgd-table2, mgd-table4 and their options.
+void RegisterMgdTables(TableRegistry& registry);
 
 }  // namespace dynref::reproduce

@@ -10,6 +10,7 @@
 #include "core/version.h"
 #include "render/canvas.h"
 #include "render/overlay.h"
+#include "trace/trace_reader.h"
 #include "reproduce/arg_checks.h"
 #include "reproduce/report_format.h"
 #include "reproduce/report_plots.h"
@@ -47,9 +48,17 @@ std::string Modules(const RunSummary& s) {
 }
 
 // The same frame's overlay of every run side by side (3 per row), each captioned with its method.
-void OverlayMontage(const std::vector<RunSummary>& runs, int64_t frame, const std::string& work, const std::string& png) {
+// A run traced at level frames (a method without stages, e.g. orb) has no per-feature records to
+// draw: it is left out and named in the returned list.
+std::vector<std::string> OverlayMontage(const std::vector<RunSummary>& runs, int64_t frame, const std::string& work,
+                                        const std::string& png) {
   std::vector<render::Canvas> tiles;
+  std::vector<std::string> skipped;
   for (const RunSummary& s : runs) {
+    if (trace::TraceReader(render::ReadRunInfo(s.run_dir).trace_path).level() != trace::Level::kFull) {
+      skipped.push_back(s.label);
+      continue;
+    }
     render::OverlayOptions o;
     o.gt = true;
     o.out_dir = work + "/overview_overlays/" + s.label;
@@ -60,6 +69,7 @@ void OverlayMontage(const std::vector<RunSummary>& runs, int64_t frame, const st
     tiles.push_back(std::move(c));
   }
   if (!tiles.empty()) render::Montage(tiles, 3).WritePng(png);
+  return skipped;
 }
 
 }  // namespace
@@ -90,7 +100,7 @@ int RunOverview(const OverviewArgs& a) {
   PlotTrajectoriesTopView(seq, shown, "Trajectories seen from above: " + a.preset, (dir / (stem + "_trajectories.png")).string());
   PlotAteOverTime(seq, shown, "ATE over time: " + a.preset, (dir / (stem + "_ate.png")).string());
   const int64_t frame = a.overlay_frame >= 0 ? a.overlay_frame : a.frames / 2;
-  OverlayMontage(runs, frame, a.work, (dir / (stem + "_overlays.png")).string());
+  const std::vector<std::string> no_overlay = OverlayMontage(runs, frame, a.work, (dir / (stem + "_overlays.png")).string());
 
   std::string md = "# dynref overview: every method on one sequence\n\n";
   md += "Made by `dynref overview --preset " + a.preset + " --frames " + std::to_string(a.frames) + " --seed " +
@@ -113,7 +123,11 @@ int RunOverview(const OverviewArgs& a) {
         "truth (`SEQ/gt/moving.txt`). ms/frame is thread CPU on this machine (run.json), one thread.\n\n";
   md += "## Trajectories\n\n![trajectories](" + stem + "_trajectories.png)\n\n![ATE over time](" + stem + "_ate.png)\n\n";
   md += "## Frame " + std::to_string(frame) + " in every method\n\nFeatures coloured by P(dynamic), crosses rejected, "
-        "rings the ground truth (red moving, white static).\n\n![overlays](" + stem + "_overlays.png)\n";
+        "rings the ground truth (red moving, white static).";
+  for (size_t i = 0; i < no_overlay.size(); ++i)
+    md += std::string(i == 0 ? " Not shown (traced per frame only, no stages): " : ", ") + no_overlay[i] +
+          (i + 1 == no_overlay.size() ? "." : "");
+  md += "\n\n![overlays](" + stem + "_overlays.png)\n";
   AtomicWriteFile(a.out, md);
   std::cout << "overview: wrote " << a.out << "\n";
   return code;

@@ -8,6 +8,8 @@
 #include <map>
 #include <sstream>
 
+#include <CLI/CLI.hpp>
+
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/version.h"
@@ -118,54 +120,52 @@ struct Cell {  // one preset, over seeds
 
 }  // namespace
 
-int RunSemanticTable(const SemanticTableArgs& a) {
-  CheckArgs(a);
-  const PaperTable paper = ReadPaperTable(PaperTableDir() + "/002-filesizes.csv");
-  const fs::path report_dir = fs::path(a.out).parent_path();
-  if (!report_dir.empty()) fs::create_directories(report_dir);
-  if (!a.collect) fs::create_directories(a.work);
-  std::vector<MethodConfig> configs;
-  for (const MapVariant& v : MapVariants()) configs.push_back(LoadMethodConfig(MethodConfigPath(v.config)));
-  const semantic::MaskOptions mask_options = [&] {
-    for (const StageConfig& sc : configs[0].stages)
-      if (sc.name == "semantic.mask") return semantic::MaskOptionsFromParams(sc.params);
-    throw InputError(configs[0].path, "configs/semantic.yaml has no semantic.mask stage");
-  }();
+namespace {
 
+// The shared workspace of one semantic-filesizes call: the paper's sizes, the configs and the cells.
+struct SemanticRun {
+  const SemanticTableArgs& a;
+  PaperTable paper;
+  std::vector<MethodConfig> configs;  // MapVariants() in order
+  semantic::MaskOptions mask_options;
   std::map<std::string, Cell> cells;
-  for (uint64_t seed : a.seeds) {
-    Workspace ws(SeedWorkDir(a.work, seed), {a.frames, seed, a.detections}, a.reuse,
-                 a.collect ? WorkMode::kCollect : WorkMode::kMake);
-    ws.set_stage_trace_level("frames");  // sizes and maps only; full traces of 3 maps are GBs
-    for (const std::string& preset : a.sequences) {
-      const std::string seq = ws.EnsureSequence(preset);
-      Cell& c = cells[preset];
-      const TumTrajectory gt = ReadTumTrajectory(seq + "/groundtruth.txt");
-      const dense::TriangleMesh mesh = dense::ReadPlyMesh(seq + "/gt/static_scene.ply");
-      const MeshDistance to_static(mesh, MapEvalOptions{}.sample_m);  // one index for the three maps
-      const dense::PointCloud observed = dense::ReadPly(seq + "/gt/static_observed.ply");
-      const dense::PointCloud movers = dense::ReadPly(seq + "/gt/movers_observed.ply");
-      for (size_t v = 0; v < MapVariants().size(); ++v) {
-        const RunSummary s = ws.Run(seq, preset + "/" + MapVariants()[v].config, configs[v], MapVariants()[v].label);
-        c.runs.push_back(s);
-        if (v == 0)
-          for (const auto& [file, what] : StageFiles()) c.mb[file].push_back(FileMB(s.run_dir + "/" + file));
-        const dense::PointCloud cloud = dense::ReadPly(s.run_dir + "/" + MapVariants()[v].map_file);
-        const SE3 T = MapToGroundTruth(gt, ReadTumTrajectory(s.run_dir + "/trajectory.txt"), MapAlign::kFirstCamera);
-        std::vector<Eigen::Vector3d> map;
-        map.reserve(cloud.size());
-        for (const auto& p : cloud) map.push_back(T * Eigen::Vector3d(p.x, p.y, p.z));
-        std::cerr << "reproduce: map-eval " << preset << "/" << MapVariants()[v].config << "\n";
-        c.quality[v].push_back(EvaluateMap(map, to_static, observed, movers, MapEvalOptions{}));
-      }
-      const NonPriorCounts n = ReplayNonPrior(seq, a.detections, mask_options);
-      c.non_prior.tp += n.tp, c.non_prior.fp += n.fp, c.non_prior.fn += n.fn, c.non_prior.tn += n.tn;
-    }
-  }
+  explicit SemanticRun(const SemanticTableArgs& args) : a(args) {}
+};
 
+// One preset of one seed: every map variant run, its files measured and its map evaluated, then
+// the non-prior decisions replayed.
+void RunPreset(SemanticRun& t, Workspace& ws, const std::string& preset) {
+  const SemanticTableArgs& a = t.a;
+  const auto& configs = t.configs;
+  const std::string seq = ws.EnsureSequence(preset);
+  Cell& c = t.cells[preset];
+  const TumTrajectory gt = ReadTumTrajectory(seq + "/groundtruth.txt");
+  const dense::TriangleMesh mesh = dense::ReadPlyMesh(seq + "/gt/static_scene.ply");
+  const MeshDistance to_static(mesh, MapEvalOptions{}.sample_m);  // one index for the three maps
+  const dense::PointCloud observed = dense::ReadPly(seq + "/gt/static_observed.ply");
+  const dense::PointCloud movers = dense::ReadPly(seq + "/gt/movers_observed.ply");
+  for (size_t v = 0; v < MapVariants().size(); ++v) {
+    const RunSummary s = ws.Run(seq, preset + "/" + MapVariants()[v].config, configs[v], MapVariants()[v].label);
+    c.runs.push_back(s);
+    if (v == 0)
+      for (const auto& [file, what] : StageFiles()) c.mb[file].push_back(FileMB(s.run_dir + "/" + file));
+    const dense::PointCloud cloud = dense::ReadPly(s.run_dir + "/" + MapVariants()[v].map_file);
+    const SE3 T = MapToGroundTruth(gt, ReadTumTrajectory(s.run_dir + "/trajectory.txt"), MapAlign::kFirstCamera);
+    std::vector<Eigen::Vector3d> map;
+    map.reserve(cloud.size());
+    for (const auto& p : cloud) map.push_back(T * Eigen::Vector3d(p.x, p.y, p.z));
+    std::cerr << "reproduce: map-eval " << preset << "/" << MapVariants()[v].config << "\n";
+    c.quality[v].push_back(EvaluateMap(map, to_static, observed, movers, MapEvalOptions{}));
+  }
+  const NonPriorCounts n = ReplayNonPrior(seq, a.detections, t.mask_options);
+  c.non_prior.tp += n.tp, c.non_prior.fp += n.fp, c.non_prior.fn += n.fn, c.non_prior.tn += n.tn;
+}
+
+void WriteIntro(SemanticRun& t, std::ostringstream& md) {
+  const SemanticTableArgs& a = t.a;
+  const auto& cells = t.cells;
   std::vector<RunSummary> all;
   for (const auto& [preset, c] : cells) all.insert(all.end(), c.runs.begin(), c.runs.end());
-  std::ostringstream md;
   std::string cmd = "dynref reproduce semantic-filesizes --frames " + std::to_string(a.frames) + " --seeds " +
                     SeedListText(a.seeds) + " --detections " + a.detections;
   if (a.sequences != SemanticTableArgs{}.sequences) {
@@ -188,7 +188,12 @@ int RunSemanticTable(const SemanticTableArgs& a) {
           for (const std::string& p : a.sequences) rows.push_back(p == "static_rpy" ? "" : PaperRow(p));  // fr2: other length
           return rows;
         }());
+}
 
+void WriteFileSizes(SemanticRun& t, std::ostringstream& md) {
+  const SemanticTableArgs& a = t.a;
+  auto& cells = t.cells;
+  const PaperTable& paper = t.paper;
   md << "\n## Map files per stage, MB (semantic run)\n\n| Sequence |";
   for (const auto& [file, what] : StageFiles()) md << " " << what << " |";
   md << " voxel / raw % | SOR removed % | .ot / raw % | paper before voxel | paper after voxel | paper ratio % |\n|---|";
@@ -218,7 +223,11 @@ int RunSemanticTable(const SemanticTableArgs& a) {
   md << "\nPCD files are binary with x y z rgb (16 bytes per point), so MB follow the point counts. The paper: "
         "SOR removed ~1.24 % of the points, the octree file is 16.5-35 % of the dense map, voxel output 18-54.6 % "
         "of its input.\n";
+}
 
+void WriteMapQuality(SemanticRun& t, std::ostringstream& md) {
+  const SemanticTableArgs& a = t.a;
+  auto& cells = t.cells;
   md << "\n## Map quality against the synthetic scene truth (`dynref map-eval`)\n\n"
      << "Accuracy: distance of each map point to the static scene mesh (median / 95th percentile, m); completeness: "
         "observed static 2 cm voxels with a map point within 5 cm; ghosts: map points within 5 cm of a mover's "
@@ -236,7 +245,11 @@ int RunSemanticTable(const SemanticTableArgs& a) {
       md << "| " << preset << " | " << MapVariants()[v].label << " | " << MeanSd(pts, 0) << " | " << MeanSd(med) << " | "
          << MeanSd(p95) << " | " << MeanSd(comp, 1) << " | " << MeanSd(ghost, 2) << " |\n";
     }
+}
 
+void WriteNonPrior(SemanticRun& t, std::ostringstream& md) {
+  const SemanticTableArgs& a = t.a;
+  auto& cells = t.cells;
   md << "\n## Non-prior dynamic objects (interaction test) against ground truth\n\n"
      << "Every prior-static detection of every frame (summed over seeds), replayed with `semantic.mask`'s own "
         "code and `configs/semantic.yaml`: truly non-prior dynamic iff the ground-truth instance under most of its "
@@ -247,31 +260,83 @@ int RunSemanticTable(const SemanticTableArgs& a) {
     md << "| " << preset << " | " << (n.tp + n.fp + n.fn + n.tn) << " | " << (n.tp + n.fn) << " | " << (n.tp + n.fp)
        << " | " << Pct(n.tp, n.tp + n.fp) << " | " << Pct(n.tp, n.tp + n.fn) << " |\n";
   }
-  md << PaperNotes("002-filesizes.csv", paper.notes);
+}
 
-  {  // ghost bars: semantic vs no removal vs sgdo
-    std::vector<render::BarSeries> series;
-    for (size_t v = 0; v < MapVariants().size(); ++v) {
-      render::BarSeries s{MapVariants()[v].label, {}, {}, render::SeriesColour(v + 4)};
-      for (const std::string& preset : a.sequences) {
-        std::vector<double> g;
-        for (const MapEvalResult& r : cells[preset].quality[v]) g.push_back(100.0 * r.ghost_fraction);
-        s.value.push_back(Mean(g));
-        s.error.push_back(g.size() > 1 ? ComputeErrorStats(g).std : std::nan(""));
-      }
-      series.push_back(s);
+// Ghost bars: semantic vs no removal vs sgdo.
+void PlotGhosts(SemanticRun& t, std::ostringstream& md) {
+  const SemanticTableArgs& a = t.a;
+  auto& cells = t.cells;
+  const fs::path report_dir = fs::path(a.out).parent_path();
+  std::vector<render::BarSeries> series;
+  for (size_t v = 0; v < MapVariants().size(); ++v) {
+    render::BarSeries s{MapVariants()[v].label, {}, {}, render::SeriesColour(v + 4)};
+    for (const std::string& preset : a.sequences) {
+      std::vector<double> g;
+      for (const MapEvalResult& r : cells[preset].quality[v]) g.push_back(100.0 * r.ghost_fraction);
+      s.value.push_back(Mean(g));
+      s.error.push_back(g.size() > 1 ? ComputeErrorStats(g).std : std::nan(""));
     }
-    render::BarChartOptions bo;
-    bo.width = 1300;
-    bo.title = "Ghost points, % of the map (mean +- S.D. over seeds " + SeedListText(a.seeds) + ")";
-    bo.y_label = "ghosts [%]";
-    const std::string png = (report_dir / (fs::path(a.out).stem().string() + "_ghosts.png")).string();
-    PlotBars(a.sequences, series, bo, png);
-    md << "\n## Plot\n\n![ghost fraction](" << fs::path(png).filename().string() << ")\n";
+    series.push_back(s);
   }
+  render::BarChartOptions bo;
+  bo.width = 1300;
+  bo.title = "Ghost points, % of the map (mean +- S.D. over seeds " + SeedListText(a.seeds) + ")";
+  bo.y_label = "ghosts [%]";
+  const std::string png = (report_dir / (fs::path(a.out).stem().string() + "_ghosts.png")).string();
+  PlotBars(a.sequences, series, bo, png);
+  md << "\n## Plot\n\n![ghost fraction](" << fs::path(png).filename().string() << ")\n";
+}
+
+}  // namespace
+
+int RunSemanticTable(const SemanticTableArgs& a) {
+  CheckArgs(a);
+  SemanticRun t(a);
+  t.paper = ReadPaperTable(PaperTableDir() + "/002-filesizes.csv");
+  const fs::path report_dir = fs::path(a.out).parent_path();
+  if (!report_dir.empty()) fs::create_directories(report_dir);
+  if (!a.collect) fs::create_directories(a.work);
+  for (const MapVariant& v : MapVariants()) t.configs.push_back(LoadMethodConfig(MethodConfigPath(v.config)));
+  t.mask_options = [&] {
+    for (const StageConfig& sc : t.configs[0].stages)
+      if (sc.name == "semantic.mask") return semantic::MaskOptionsFromParams(sc.params);
+    throw InputError(t.configs[0].path, "configs/semantic.yaml has no semantic.mask stage");
+  }();
+  for (uint64_t seed : a.seeds) {
+    Workspace ws(SeedWorkDir(a.work, seed), {a.frames, seed, a.detections}, a.reuse,
+                 a.collect ? WorkMode::kCollect : WorkMode::kMake);
+    ws.set_stage_trace_level("frames");  // sizes and maps only; full traces of 3 maps are GBs
+    for (const std::string& preset : a.sequences) RunPreset(t, ws, preset);
+  }
+  std::ostringstream md;
+  WriteIntro(t, md);
+  WriteFileSizes(t, md);
+  WriteMapQuality(t, md);
+  WriteNonPrior(t, md);
+  md << PaperNotes("002-filesizes.csv", t.paper.notes);
+  PlotGhosts(t, md);
   AtomicWriteFile(a.out, md.str());
   std::cout << "reproduce: wrote " << a.out << "\n";
   return kExitOk;
+}
+
+void RegisterSemanticTables(TableRegistry& registry) {
+  registry.Add(
+      {"semantic-filesizes", "002 semantic mapping",
+       "map files per stage vs the paper's sizes, map accuracy/completeness/ghosts, non-prior P/R",
+       "Seed 002: map files per stage (raw, SOR, voxel, octree, grid) beside the paper's sizes, map accuracy/"
+       "completeness/ghosts of semantic vs no removal vs sgdo, non-prior dynamic P/R, over seeds",
+       [](CLI::App& app) {
+         auto m = std::make_shared<SemanticTableArgs>();
+         MatrixHelp help;
+         help.work = "Working folder <work>/seed<S>/{seq,runs}";
+         help.detections = "Synthetic detection mode (default yolo-like)";
+         help.sequences = "Presets (default the paper's TUM analogues + walking_xyz + moving_box)";
+         AddMatrixOptions(app, *m, help);
+         AddReuseCollect(app, *m, "Reuse sequences/runs of an earlier call with identical inputs",
+                         "Only read: sequences and runs already in --work");
+         return TableCommand{m, [m] { return RunSemanticTable(*m); }};
+       }});
 }
 
 }  // namespace dynref::reproduce

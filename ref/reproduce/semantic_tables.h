@@ -10,20 +10,22 @@
 #include <string>
 #include <vector>
 
+#include "reproduce/table_registry.h"
+
 namespace dynref::reproduce {
 
-struct SemanticTableArgs {
-  std::string out = "reports/semantic-filesizes.md";
-  std::string work = "dynref-work/semantic";
-  int frames = 150;
-  std::vector<uint64_t> seeds = {1, 2, 3};
-  std::string detections = "yolo-like";
-  std::vector<std::string> sequences = {"walking_xyz",  "walking_static", "walking_rpy", "walking_halfsphere",
-                                        "sitting_static", "sitting_halfsphere", "static_rpy", "moving_box"};
-  bool reuse = false;
-  bool collect = false;
+struct SemanticTableArgs : MatrixArgs {
+  SemanticTableArgs() {
+    out = "reports/semantic-filesizes.md";
+    work = "dynref-work/semantic";
+    frames = 150;
+    sequences = {"walking_xyz",    "walking_static",     "walking_rpy", "walking_halfsphere",
+                 "sitting_static", "sitting_halfsphere", "static_rpy",  "moving_box"};
+  }
 };
 
 int RunSemanticTable(const SemanticTableArgs& args);
+// semantic-filesizes and its options.
+void RegisterSemanticTables(TableRegistry& registry);
 
 }  // namespace dynref::reproduce

@@ -12,21 +12,20 @@
 #include <vector>
 
 #include "pipeline/method_config.h"
+#include "reproduce/table_registry.h"
 
 namespace dynref::reproduce {
 
-struct Table6Args {
-  std::string out = "reports/sgdo-table6.md";
-  std::string work = "dynref-work/sgdo";  // <work>/seed<S>/{seq,runs}/ (the layout workflow/Snakefile writes; shared with sgdo-table1..7)
-  int frames = 300;
-  std::vector<uint64_t> seeds = {1, 2, 3};
-  std::string detections = "yolo-like";
-  std::vector<std::string> sequences = {"walking_xyz", "walking_static", "walking_rpy",
-                                        "walking_halfsphere", "sitting_static"};
+// MatrixArgs::work: <work>/seed<S>/{seq,runs}/ (the layout workflow/Snakefile writes; shared with
+// sgdo-table1..7); collect: read sequences and runs made by workflow/Snakefile.
+struct Table6Args : MatrixArgs {
+  Table6Args() {
+    out = "reports/sgdo-table6.md";
+    work = "dynref-work/sgdo";
+    sequences = {"walking_xyz", "walking_static", "walking_rpy", "walking_halfsphere", "sitting_static"};
+  }
   std::vector<std::string> sensitivity = {"walking_xyz"};
   std::vector<std::string> variants;  // config names of Table6Variants() to run (empty = all)
-  bool reuse = false;
-  bool collect = false;  // WorkMode::kCollect: read sequences and runs made by workflow/Snakefile
   bool no_overlay = false;
 };
 
@@ -47,5 +46,7 @@ std::pair<std::string, std::string> PaperRows(const std::string& preset);
 
 // Checks every argument first (InputError naming the option), then runs and writes the report.
 int RunSgdoTable6(const Table6Args& args);
+// sgdo-table6 and its options.
+void RegisterSgdoTable6(TableRegistry& registry);
 
 }  // namespace dynref::reproduce

@@ -12,23 +12,22 @@
 #include <string>
 #include <vector>
 
+#include "reproduce/table_registry.h"
+
 namespace dynref::reproduce {
 
-struct SgdoTableArgs {
-  std::string table;  // "table1" | "table2" | "table3" | "table4" | "table7"
-  std::string out;    // default reports/sgdo-<table>.md
-  std::string work = "dynref-work/sgdo";
-  int frames = 300;
-  std::vector<uint64_t> seeds = {1, 2, 3};
-  std::string detections = "yolo-like";
-  std::vector<std::string> sequences = {"walking_xyz", "walking_static", "walking_rpy", "walking_halfsphere",
-                                        "sitting_static"};
-  bool reuse = false;
-  bool collect = false;
+struct SgdoTableArgs : MatrixArgs {
+  SgdoTableArgs() {
+    work = "dynref-work/sgdo";
+    sequences = {"walking_xyz", "walking_static", "walking_rpy", "walking_halfsphere", "sitting_static"};
+  }
+  std::string table;  // "table1" | "table2" | "table3" | "table4" | "table7"; out: reports/sgdo-<table>.md
 };
 
 const std::vector<std::string>& SgdoMainTables();  // table1, table2, table3, table4, table7
 // Checks every argument first (InputError naming the option), then runs and writes the report.
 int RunSgdoTable(const SgdoTableArgs& args);
+// sgdo-table1, 2, 3, 4, 7 and their options.
+void RegisterSgdoTables(TableRegistry& registry);
 
 }  // namespace dynref::reproduce

@@ -1,5 +1,6 @@
 // Every paper table `dynref reproduce` can run (`dynref reproduce --list`): its command name, the
-// seed paper, what it measures and the report it writes (reports/<name>.md by default).
+// seed paper, what it measures and the report it writes (reports/<name>.md by default), read from
+// the table registry (table_registry.h: each table registers its row from its own file).
 #pragma once
 #include <string>
 #include <vector>

@@ -322,4 +322,29 @@ Mesh BuildBoxMesh(Scene* s, uint64_t seed) {
   return m;
 }
 
+// The loop presets' extra wall decor (issue 34): printed posters over the wall behind the start
+// view (y = -2.6) and over both side walls, so that a camera turning once around the room keeps
+// enough ORB corners; its own random stream, so no other preset changes.
+void AddLoopDecor(uint64_t seed, Scene* s) {
+  Rng rng(seed, "synth.loop_decor");
+  Mesh& m = s->static_mesh;
+  const Rgb white = C(0.85f, 0.85f, 0.82f), dark = C(0.06f, 0.06f, 0.07f);
+  auto poster = [&](float k) {
+    return s->AddMaterial(Mat(Pattern::kPrint, C(0.9f - 0.2f * k, 0.85f, 0.7f + 0.2f * k), dark,
+                              C(0.2f + 0.6f * k, 0.3f, 0.8f - 0.5f * k), float(rng.Uniform(0.05, 0.12)), rng));
+  };
+  const float X0 = -2.8f, X1 = 2.8f, Y0 = -2.6f;
+  for (int row = 0; row < 2; ++row)
+    for (int col = 0; col < 5; ++col) {
+      const float x = -2.6f + 1.05f * float(col), z = 0.45f + 0.9f * float(row);
+      QuadY(&m, Y0 + 0.01f, x, x + 0.95f, z, z + 0.8f, poster(float((row + col) % 3) / 2.f), 0);
+    }
+  for (int row = 0; row < 2; ++row)
+    for (int col = 0; col < 3; ++col) {
+      const float y = -2.45f + 0.95f * float(col), z = 0.45f + 0.9f * float(row);
+      QuadX(&m, X0 + 0.01f, y, y + 0.85f, z, z + 0.8f, poster(float((row + col + 1) % 3) / 2.f), 0);
+      if (col != 1) QuadX(&m, X1 - 0.01f, y, y + 0.85f, z, z + 0.8f, poster(float((row + col + 2) % 3) / 2.f), 0);
+    }
+}
+
 }  // namespace dynref::synth

@@ -44,6 +44,8 @@ void BuildOffice(uint64_t seed, Scene* scene);
 // cabinet, a bookcase frame, two crates) whose edges and faces give lines and planes while ORB
 // corners are scarce. Textures seeded from Rng(seed, "synth.scene").
 void BuildPlainRoom(uint64_t seed, Scene* scene);
+// Posters on the walls the office leaves bare, for the loop presets (issue 34).
+void AddLoopDecor(uint64_t seed, Scene* scene);
 // Office chair in its own frame: origin on the floor under the seat centre, seat faces +x.
 Mesh BuildChairMesh(Scene* scene, uint64_t seed, int variant);
 // Cardboard box (0.44 x 0.34 x 0.30 m) centred at the origin.

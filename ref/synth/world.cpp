@@ -84,7 +84,7 @@ ActorSpec At(ActorKind kind, double x, double y, double yaw, double phase, bool 
 std::vector<std::string> PresetNames() {
   return {"walking_xyz", "walking_static", "walking_halfsphere", "walking_rpy", "sitting_static", "sitting_xyz",
           "sitting_halfsphere", "sitting_rpy", "crowd", "person_tracking", "synchronous", "moving_box",
-          "static_xyz", "static_rpy", "static_halfsphere", "static_lowtexture"};
+          "static_xyz", "static_rpy", "static_halfsphere", "static_lowtexture", "loop_static", "loop_walking"};
 }
 
 PresetSpec GetPreset(const std::string& name) {
@@ -126,6 +126,14 @@ PresetSpec GetPreset(const std::string& name) {
     p.static_chairs = {left, right};
     p.default_frames = 800;
     if (p.camera == CameraPath::kStatic) p.name = "";  // only xyz/rpy/halfsphere exist
+  } else if (name == "loop_static" || name == "loop_walking") {
+    // Issue 34's loop-closing sequence: the camera turns once around the room (loop path) and
+    // looks at the desks again where it started; loop_walking adds the walking_* people.
+    p.camera = CameraPath::kLoop;
+    p.static_chairs = {left, right};
+    if (name == "loop_walking")
+      p.actors = {Walker(0, -0.15, 2.1, 0.45, 1.0, 0.05, 1), Walker(0, -0.15, 1.3, 0.12, 0.8, 0.55, -1)};
+    p.default_frames = 720;
   } else if (name == "crowd") {
     // Bonn crowd: several people walking in lanes plus two standing and turning.
     p.camera = CameraPath::kHandheld;
@@ -168,6 +176,7 @@ PresetSpec GetPreset(const std::string& name) {
 World::World(const PresetSpec& preset, uint64_t seed) : preset_(preset) {
   if (preset_.plain_room) BuildPlainRoom(seed, &scene_);
   else BuildOffice(seed, &scene_);
+  if (preset_.camera == CameraPath::kLoop) AddLoopDecor(seed, &scene_);
   chair_mesh_ = BuildChairMesh(&scene_, seed, 0);
   box_mesh_ = BuildBoxMesh(&scene_, seed);
   int next_movable = kFirstMovableId;
@@ -350,6 +359,16 @@ SE3 World::CameraT_wc(double t) const {
       eye += Vector3d(0.08 * wave(10.0, 0), 0.05 * wave(12.0, 1), 0.04 * wave(8.0, 2));
       yaw += 0.1 * wave(9.0, 3), pitch += 0.05 * wave(7.0, 4);
       break;
+    case CameraPath::kLoop: {
+      // One turn in kLoopPeriodS: the eye on a 0.35 m circle around (0, -1.3, 1.3), looking outwards
+      // 20 deg down (desks, right wall, back wall, left wall, desks), then the start view again.
+      const double kLoopPeriodS = 20.0;
+      const double a = 2 * kPi * std::min(t, kLoopPeriodS) / kLoopPeriodS;
+      const Vector3d dir(std::sin(a), std::cos(a), 0);
+      eye = Vector3d(0, -1.3, 1.3) + 0.35 * dir + tremor;
+      target = eye + dir + Vector3d(0, 0, -0.36);
+      break;
+    }
     case CameraPath::kTracking: {  // follow actor 0 with a 0.3 s lag
       double wy = 0, dist = 0;
       const Vector3d q = WalkerPoint(actors_.front(), std::max(0.0, t - 0.3), &wy, &dist);

@@ -12,7 +12,7 @@
 
 namespace dynref::synth {
 
-enum class CameraPath { kXyz, kRpy, kHalfsphere, kStatic, kHandheld, kTracking };
+enum class CameraPath { kXyz, kRpy, kHalfsphere, kStatic, kHandheld, kTracking, kLoop };
 enum class ActorKind { kWalker, kPusher, kSitter, kTurner, kCarrier, kJumper };
 
 struct ActorSpec {

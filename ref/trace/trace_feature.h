@@ -38,6 +38,17 @@ FeatureHistory CollectFeatureHistory(TraceReader& reader, const std::string& id)
 // frame; rows = every record of every chain entity (and its residuals "<entity>@..."), frames
 // ascending, file order within. Two passes over the trace (links, then records).
 FeatureHistory CollectFollowHistory(TraceReader& reader, const std::string& id);
+// The links `--follow` searches, for a client that follows chains itself (`dynref view`): one per
+// pair of entities (named by its first link, e.g. "prev_index", "map point (OBS)"), in order of
+// first appearance, and every instance mask entity i<F>.<inst> (joined by inst).
+struct FollowLink {
+  std::string a, b, via;
+};
+struct FollowLinks {
+  std::vector<FollowLink> links;
+  std::vector<std::string> instance_masks;
+};
+FollowLinks CollectFollowLinks(TraceReader& reader);
 // "# chain of ID: N entities" then one "# <frame> -> <entity> (<via>, from <entity>)" line each.
 void WriteChainSection(const FeatureHistory& history, std::ostream& out);
 // PROB records that carry geometry or a match with p = 0 (stage "structure", stages "match.*"):

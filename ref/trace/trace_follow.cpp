@@ -52,10 +52,14 @@ class LinkGraph {
  public:
   void Link(const std::string& a, const std::string& b, const std::string& via) {
     if (a == b) return;
-    adjacency_[a].emplace(b, via);  // the first link between two entities names it
+    // The first link between two entities names it (both directions are new together).
+    if (adjacency_[a].emplace(b, via).second) links_.links.push_back({a, b, via});
     adjacency_[b].emplace(a, via);
   }
-  void Instance(int64_t inst, const std::string& entity) { instances_[inst].insert(entity); }
+  void Instance(int64_t inst, const std::string& entity) {
+    if (instances_[inst].insert(entity).second) links_.instance_masks.push_back(entity);
+  }
+  const FollowLinks& links() const { return links_; }
 
   // Breadth-first search from `start` (README "Following a feature"). Previous-frame links never
   // turn around in time: the start is followed both ways, an entity reached backwards (an
@@ -136,6 +140,7 @@ class LinkGraph {
  private:
   std::map<std::string, std::map<std::string, std::string>> adjacency_;
   std::map<int64_t, std::set<std::string>> instances_;  // inst -> i<F>.<inst> over all frames
+  FollowLinks links_;  // the same links in order of first appearance (CollectFollowLinks)
 };
 
 // A residual link record (the backbone's `track.pose.obs` / `localba.obs`, README "Geometry
@@ -220,10 +225,8 @@ bool IsCarrierStage(const std::string& stage) {
          stage == "track.keyframe";
 }
 
-FeatureHistory CollectFollowHistory(TraceReader& reader, const std::string& id) {
-  FeatureHistory h;
-  h.id = id;
-  h.follow = true;
+// The first pass: the links of every frame group.
+LinkGraph BuildLinkGraph(TraceReader& reader) {
   LinkGraph graph;
   std::map<int64_t, int64_t> kf_frame;
   int64_t prev_frame = -1, current = -1;
@@ -233,6 +236,16 @@ FeatureHistory CollectFollowHistory(TraceReader& reader, const std::string& id) 
     if (frame < 0) continue;
     AddLinks(reader.ReadGroup(gi), prev_frame, kf_frame, graph);
   }
+  return graph;
+}
+
+FollowLinks CollectFollowLinks(TraceReader& reader) { return BuildLinkGraph(reader).links(); }
+
+FeatureHistory CollectFollowHistory(TraceReader& reader, const std::string& id) {
+  FeatureHistory h;
+  h.id = id;
+  h.follow = true;
+  const LinkGraph graph = BuildLinkGraph(reader);
   h.chain = graph.Closure(BaseId(id));
   std::set<std::string> members;
   for (const ChainEntry& c : h.chain) members.insert(c.entity);

@@ -1,5 +1,6 @@
 // ORB-SLAM2 Tracking::Relocalization with dynref substitutes: candidates are the most recent
-// keyframes (no DBoW2 database), keyframe-to-frame matching is brute force (matcher.h), and the
+// keyframes or the keyframe database's (backbone.relocalisation, relocaliser_bow.h), keyframe-to-
+// frame matching is brute force (matcher.h) or by vocabulary node (backbone.bow_matching), and the
 // PnP RANSAC is ours (EPnP on minimal sets of 4 drawn from the seeded stream "tracking.reloc",
 // ORB-SLAM2 PnPsolver parameters 0.99 / 10 / 300 / 4 / 0.5 / 5.991) so that no library RNG is
 // involved.
@@ -9,6 +10,7 @@
 #include <set>
 
 #include "tracking/matcher.h"
+#include "tracking/relocaliser_bow.h"
 #include "tracking/tracker.h"
 
 namespace dynref::tracking {
@@ -118,17 +120,12 @@ bool Tracker::PnpRansac(const Frame& f, const std::vector<int>& idx, const std::
 }
 
 bool Tracker::Relocalise(Frame& f) {
-  std::vector<int64_t> candidates;
-  for (auto it = map_.keyframes.rbegin(); it != map_.keyframes.rend(); ++it) {
-    if (it->second->bad) continue;
-    candidates.push_back(it->first);
-    if (static_cast<int>(candidates.size()) >= options_.reloc_recent_keyframes) break;
-  }
-  trace_.FrameCount("track.reloc", "candidates", static_cast<int64_t>(candidates.size()));
+  PlaceBow frame_bow;  // the frame's vectors when a vocabulary is used (relocaliser_bow.h)
+  const std::vector<int64_t> candidates = RelocalisationCandidates(f, map_, options_, place_, trace_, &frame_bow);
   for (int64_t kf_id : candidates) {
     const KeyFrame& kf = *map_.kf(kf_id);
     std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
-    const int n = SearchByBruteForce(kf, f, map_, 0.75f, true, options_.mnn2, "match.mnn2.relocalisation");
+    const int n = MatchRelocalisationCandidate(kf, f, map_, options_, place_, frame_bow);
     if (n < 15) continue;
     std::vector<int> idx;
     std::vector<Eigen::Vector3d> X;

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "optim/optim.h"
 #include "tracking/matcher.h"
+#include "tracking/relocaliser_bow.h"
 
 namespace dynref::tracking {
 
@@ -16,6 +17,8 @@ void TrackerOptions::Check() const {
   if (min_frames < 0) throw InputError("tracker options", "min_frames must be >= 0");
   if (reloc_recent_keyframes < 1) throw InputError("tracker options", "reloc_recent_keyframes must be >= 1");
   if (ransac_iterations < 1) throw InputError("tracker options", "ransac_iterations must be >= 1");
+  if (relocalisation != "recent" && relocalisation != "bow")
+    throw InputError("tracker options", "relocalisation must be recent or bow, got '" + relocalisation + "'");
   pose.Check();
 }
 
@@ -173,7 +176,7 @@ bool Tracker::TrackReferenceKeyFrame(Frame& f) {
   const KeyFrame* ref = map_.kf(reference_kf_);
   if (ref == nullptr) return false;
   std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
-  int n = SearchByBruteForce(*ref, f, map_, 0.7f, true, options_.mnn2, "match.mnn2.reference");
+  int n = MatchReferenceKeyFrame(*ref, f, map_, options_, place_);  // relocaliser_bow.h
   trace_.FrameCount("track.reference_kf", "matches", n);
   if (structure_ != nullptr && n < 15) {
     f.T_cw = last_.T_cw;  // association needs a pose; the same start as below

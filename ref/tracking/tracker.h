@@ -19,11 +19,17 @@
 
 namespace dynref::tracking {
 
+class PlaceIndex;  // place_index.h
+
 struct TrackerOptions {
   int min_init_points = 500;   // ORB-SLAM2 StereoInitialization: N > 500 (here: with depth)
   int max_frames = 30;         // ORB-SLAM2 mMaxFrames = fps
   int min_frames = 0;          // ORB-SLAM2 mMinFrames
   int reloc_recent_keyframes = 10;  // relocalisation candidates (no BoW database: most recent)
+  // Issue 34 (tracking/relocaliser_bow.h): "recent" = the reloc_recent_keyframes most recent
+  // keyframes; "bow" = ORB-SLAM2's keyframe-database query over the whole map.
+  std::string relocalisation = "recent";
+  bool bow_matching = false;  // ORB-SLAM2 SearchByBoW in reference-keyframe tracking / relocalisation
   int ransac_iterations = 300; // ORB-SLAM2 PnPsolver SetRansacParameters(0.99, 10, 300, 4, 0.5, 5.991)
   uint64_t seed = 1;
   optim::PoseOnlyOptions pose;  // ORB-SLAM2 Optimizer::PoseOptimization (4 x 10 iterations, chi2 gates)
@@ -74,6 +80,8 @@ class Tracker {
   int matches_inliers() const { return matches_inliers_; }
   // Lines and planes (issue 13; nullptr = point-only ORB-SLAM2). Not owned.
   void SetStructure(const structure::StructureTracker* s) { structure_ = s; }
+  // Place recognition (issue 34; nullptr = no vocabulary). Not owned.
+  void SetPlaceIndex(PlaceIndex* p) { place_ = p; }
   int pose_calls() const { return pose_call_; }
 
  private:
@@ -106,6 +114,7 @@ class Tracker {
   // Structure: weighted inlier lines/planes of the last OptimizeFinal (added to the point counts
   // in ORB-SLAM2's tracking thresholds, structure_options.h).
   const structure::StructureTracker* structure_ = nullptr;
+  PlaceIndex* place_ = nullptr;  // issue 34, place_index.h
   int structure_inliers_ = 0;
   int StructureCount(double weighted) const { return static_cast<int>(std::floor(weighted)); }
   int pose_call_ = 0;

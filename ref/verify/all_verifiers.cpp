@@ -10,6 +10,7 @@ VerifierList AllVerifiers() {
   AddEpiVerifiers(out);
   AddSgdoVerifiers(out);
   AddSemanticVerifiers(out);
+  AddLoopVerifiers(out);
   return out;
 }
 

@@ -1,5 +1,7 @@
 #include "verify/trace_model.h"
 
+#include "verify/check.h"
+
 #include <cstdlib>
 
 #include "io/coco_classes.h"
@@ -154,6 +156,17 @@ bool ParseNumberId(const std::string& id, const std::string& prefix, int64_t* n)
   if (id.compare(0, prefix.size(), prefix) != 0 || !AllDigits(id.substr(prefix.size()))) return false;
   *n = std::stoll(id.substr(prefix.size()));
   return true;
+}
+
+double AppliedMinConfidence(const TraceModel& t, const trace::Record& r, const std::string& stage, Check& c) {
+  const double paper = c.Need(t.StageNumber(stage, "min_confidence"), "config " + stage + ".min_confidence");
+  const std::optional<double> applied = Input(r, "applied_min_confidence");
+  if (!applied) return paper;
+  std::string scale;
+  t.StageParam(stage, "threshold_scale", &scale);
+  c.Same("config " + stage + ".threshold_scale (a mapped threshold)", std::string("detector"), scale);
+  if (!(*applied >= 0 && *applied <= 1)) c.Near("applied_min_confidence in [0, 1]", paper, *applied, 0);
+  return *applied;
 }
 
 }  // namespace dynref::verify

@@ -74,8 +74,18 @@ class TraceModel {
   std::map<std::string, std::vector<RecordRef>> entity_;  // entity id -> records
 };
 
+class Check;
+
 // Input `name` of a PROB record (nullopt if the record has no such input).
 std::optional<double> Input(const trace::Record& r, const std::string& name);
+
+// The confidence threshold a mask stage applied to the instance of record `r` (issue 39): the
+// config's `min_confidence` (the paper's number), or, when the stage mapped it to its detection
+// source's scale (`threshold_scale: detector` with a calibrated source such as NanoDet), the
+// `applied_min_confidence` input the stage recorded. A recorded value under `threshold_scale: raw`
+// or outside [0, 1] is a mismatch; the source's calibration itself is the detector's, not a
+// trace record (reports/real_people.md), so it is taken as recorded.
+double AppliedMinConfidence(const TraceModel& t, const trace::Record& r, const std::string& stage, Check& c);
 // Parses "<prefix><a>.<b>" (e.g. "f12.3") into a, b; false otherwise.
 bool ParseDottedId(const std::string& id, const std::string& prefix, int64_t* a, int64_t* b);
 // Parses "<prefix><n>" (e.g. "mp17") into n; false otherwise.

@@ -30,6 +30,7 @@ void AddBlurVerifiers(VerifierList& out);
 void AddEpiVerifiers(VerifierList& out);
 void AddSgdoVerifiers(VerifierList& out);
 void AddSemanticVerifiers(VerifierList& out);
+void AddLoopVerifiers(VerifierList& out);      // loop closing (issue 34)
 // All of them, in this order (the first verifier that claims a record verifies it).
 VerifierList AllVerifiers();
 

@@ -27,7 +27,8 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kChi2Line4 = 9.488, kChi2Line1 = 3.841, kChi2Plane = 7.815;
 
 std::string Family(const std::string& call_id) { return call_id.substr(0, call_id.find('#')); }
-bool BackboneFamily(const std::string& f) { return f == "track.pose" || f == "localba"; }
+// "globalba" (issue 34, ref/loop: loop closing's global BA) is local BA over every keyframe.
+bool BackboneFamily(const std::string& f) { return f == "track.pose" || f == "localba" || f == "globalba"; }
 
 // "<landmark>@f<N>" / "<landmark>@kf<N>", landmark mp<id> (point), ml<id> (line), mpl<id> (plane).
 struct ObsId {
@@ -210,7 +211,7 @@ class ResidualVerifier final : public Verifier {
   void Verify(const TraceModel& t, RecordRef at, Check& check) const override {
     const Record& r = t.At(at);
     const std::string family = Family(r.stage);
-    const bool ba = family == "localba";
+    const bool ba = family == "localba" || family == "globalba";
     ObsId id;
     if (!ParseObsId(r.entity, &id)) return check.Same("observation id", "mp|ml|mpl<id>@f|kf<n>", r.entity);
     check.Same("observation at", ba ? "keyframe" : "frame", id.keyframe ? "keyframe" : "frame");
@@ -350,11 +351,11 @@ class LinkVerifier final : public Verifier {
  public:
   bool Claims(const Record& r) const override {
     if (r.type != RecordType::kProbability) return false;
-    return r.stage == "track.pose.obs" || r.stage == "localba.obs";
+    return r.stage == "track.pose.obs" || r.stage == "localba.obs" || r.stage == "globalba.obs";
   }
   void Verify(const TraceModel& t, RecordRef at, Check& check) const override {
     const Record& r = t.At(at);
-    const bool ba = r.stage == "localba.obs";
+    const bool ba = r.stage == "localba.obs" || r.stage == "globalba.obs";
     check.Near("before", 0, r.before, 0);
     check.Near("after", 0, r.after, 0);
     ObsId id;
@@ -365,7 +366,7 @@ class LinkVerifier final : public Verifier {
     else if (id.type == 'p') check.Need(r, "x"), check.Need(r, "y"), check.Need(r, "z");
     if (!check.ok()) return;
     // The residual it links follows in the same frame.
-    const std::string family = ba ? "localba" : "track.pose";
+    const std::string family = ba ? r.stage.substr(0, r.stage.size() - 4) : "track.pose";
     const auto& recs = t.frames()[at.frame_pos].records;
     bool linked = false;
     for (size_t i = at.index + 1; i < recs.size() && !linked; ++i) {

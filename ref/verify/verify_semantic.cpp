@@ -68,7 +68,7 @@ struct Partition {
 Partition Classify(const TraceModel& t, const Record& r, Check& c) {
   Partition p;
   const double class_id = c.Need(r, "class_id"), conf = c.Need(r, "confidence");
-  const double min_conf = c.Need(t.StageNumber(kMask, "min_confidence"), "config semantic.mask.min_confidence");
+  const double min_conf = AppliedMinConfidence(t, r, kMask, c);
   const std::set<int> prior = PriorDynamicIds(t);
   if (prior.empty()) c.Missing("config semantic.mask.prior_dynamic_classes");
   if (!c.ok()) return p;

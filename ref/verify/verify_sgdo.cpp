@@ -115,7 +115,7 @@ MaskInstance RecomputeMaskInstance(const TraceModel& t, const Record& r, Check& 
   m.recorded = true;
   m.class_id = c.Need(r, "class_id");
   m.confidence = c.Need(r, "confidence");
-  const double min_conf = c.Need(t.StageNumber("sgdo.mask", "min_confidence"), "config sgdo.mask.min_confidence");
+  const double min_conf = AppliedMinConfidence(t, r, "sgdo.mask", c);
   const std::set<int> classes = DynamicClassIds(t);
   if (classes.empty()) c.Missing("config sgdo.mask.dynamic_classes");
   m.dynamic = classes.count(static_cast<int>(m.class_id)) > 0 && m.confidence >= min_conf;
@@ -152,7 +152,7 @@ void VerifyMaskDecision(const TraceModel& t, RecordRef at, Check& c) {
   if (r.kind == trace::EntityKind::kInstanceMask) {
     const MaskInstance m = RecomputeMaskInstance(t, *p, c);
     if (!c.ok()) return;
-    const double min_conf = *t.StageNumber("sgdo.mask", "min_confidence");
+    const double min_conf = AppliedMinConfidence(t, *p, "sgdo.mask", c);
     c.Same("kept", !m.dynamic, r.kept);
     c.Same("reason",
            m.dynamic ? "prior-dynamic:" + std::string(CocoClassName(static_cast<int>(m.class_id)))

@@ -9,6 +9,8 @@
 #include "core/error.h"
 #include "eval/trajectory_eval.h"
 #include "io/trajectory.h"
+#include "trace/trace_feature.h"
+#include "view/packed.h"
 
 namespace dynref::view {
 namespace {
@@ -45,10 +47,24 @@ class SchemaTable {
   json list_ = json::array();
 };
 
-// Landmark ids a record links to a frame: its own mp/kf/ml/mpl entity (also "mp3@kf2"), and the
-// map point an OBS names (associated, else final).
-void LandmarkLinks(const trace::FlatRecord& r, std::vector<std::string>* out) {
+// The frame of a per-frame entity id "f12.3" (also "i4.2", "l5.1", "pl2.0", "r3.1"), else -1.
+int64_t EntityFrame(const std::string& base) {
+  size_t k = 0;
+  while (k < base.size() && base[k] >= 'a' && base[k] <= 'z') ++k;
+  const size_t dot = base.find('.', k);
+  if (k == 0 || dot == std::string::npos || dot == k) return -1;
+  for (size_t i = k; i < dot; ++i)
+    if (base[i] < '0' || base[i] > '9') return -1;
+  return std::stoll(base.substr(k, dot - k));
+}
+
+// Entity ids a record links to a frame group (the page loads those frames for the entity's
+// history): its own mp/kf/ml/mpl entity (also "mp3@kf2"), a per-frame entity recorded in another
+// frame's group, and the map point an OBS names (associated, else final).
+void LandmarkLinks(const trace::FlatRecord& r, int64_t frame, std::vector<std::string>* out) {
   const std::string base = r.entity.substr(0, r.entity.find('@'));
+  const int64_t own = EntityFrame(base);
+  if (own >= 0 && own != frame) out->push_back(base);
   for (const char* p : {"mpl", "mp", "kf", "ml"}) {
     const std::string prefix(p);
     if (base.size() > prefix.size() && base.compare(0, prefix.size(), prefix) == 0 &&
@@ -99,9 +115,49 @@ json TrajectoryData(const std::string& run_dir, const json& run_json) {
   return t;
 }
 
+// A frame's records as columns (packed.h): "order" = the schema id of each record in file
+// order; "cols"[schema] = [entities, occurrences, one array per field].
+class FrameColumns {
+ public:
+  void Add(int schema, const trace::FlatRecord& r, int digits) {
+    order_.push_back(schema);
+    json& c = cols_[std::to_string(schema)];
+    if (c.is_null()) {
+      c = json::array({json::array(), json::array()});
+      for (size_t i = 0; i < r.fields.size(); ++i) c.push_back(json::array());
+    }
+    c[0].push_back(r.entity);
+    c[1].push_back(r.occurrence);
+    for (size_t i = 0; i < r.fields.size(); ++i)
+      c[2 + i].push_back(r.fields[i].exact ? json(r.fields[i].text) : RoundedNumber(r.fields[i].number, digits));
+  }
+  json Json() const { return {{"order", order_}, {"cols", cols_}}; }
+
+ private:
+  json order_ = json::array();
+  json cols_ = json::object();
+};
+
+// OUT/data/r<k>/links.js: the links `trace feature --follow` searches (trace_feature.h
+// CollectFollowLinks), packed: {"via": [names], "links": [a, b, via index, ...], "masks": [...]}.
+uint64_t WriteFollowLinks(trace::TraceReader& reader, int k, const std::string& dir) {
+  const trace::FollowLinks links = trace::CollectFollowLinks(reader);
+  std::map<std::string, int> via_ids;
+  json via = json::array(), flat = json::array();
+  for (const trace::FollowLink& l : links.links) {
+    auto it = via_ids.emplace(l.via, static_cast<int>(via_ids.size())).first;
+    if (it->second == static_cast<int>(via.size())) via.push_back(l.via);
+    flat.push_back(l.a), flat.push_back(l.b), flat.push_back(it->second);
+  }
+  const json data = {{"via", via}, {"links", flat}, {"masks", links.instance_masks}};
+  const std::string text = Script("VIEW.linksZ", json::array({k, DeflateBase64(data.dump())}));
+  AtomicWriteFile(dir + "/links.js", text);
+  return text.size();
+}
+
 }  // namespace
 
-RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_dir,
+RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_dir, const DataOptions& options,
                      const std::map<int64_t, std::string>& image_for_frame, const std::string& divergence_json) {
   RunSite site;
   site.run_dir = run_dir;
@@ -117,7 +173,7 @@ RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_d
   const std::string dir = out_dir + "/data/r" + std::to_string(k);
   fs::create_directories(dir);
   SchemaTable schemas;
-  std::map<std::string, std::vector<int64_t>> links;  // landmark -> frames
+  std::map<std::string, std::vector<int64_t>> links;  // entity -> frames of other groups with its records
   std::map<std::string, json> counts;                 // "stage.name" -> [[frame, value]...]
   json frames = json::array(), stamps = json::array();
   for (size_t g = 0; g < reader.groups().size(); ++g) {
@@ -125,30 +181,30 @@ RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_d
     const std::vector<trace::FlatRecord> recs = trace::FlattenGroup(raw);
     const int64_t frame = reader.groups()[g].frame;
     double stamp = 0;
-    json rows = json::array();
+    FrameColumns columns;
     for (const trace::FlatRecord& r : recs) {
       if (r.type == "frame") stamp = r.fields.empty() ? 0 : r.fields[0].number;
       if (r.type == "count") counts[r.stage + "." + r.entity].push_back({frame, std::stoll(r.fields.at(0).text)});
       std::vector<std::string> lm;
-      LandmarkLinks(r, &lm);
+      LandmarkLinks(r, frame, &lm);
       for (const std::string& id : lm) {
         std::vector<int64_t>& f = links[id];
         if (f.empty() || f.back() != frame) f.push_back(frame);
       }
-      json row = {schemas.Id(r), r.entity, r.occurrence};
-      for (const trace::FlatField& f : r.fields) row.push_back(f.exact ? json(f.text) : Number(f.number));
-      rows.push_back(std::move(row));
+      columns.Add(schemas.Id(r), r, options.digits);
     }
     auto img = image_for_frame.find(frame);
-    const json data = {{"frame", frame}, {"stamp", Number(stamp)},
-                       {"image", img == image_for_frame.end() ? "" : img->second}, {"records", rows}};
-    const std::string text = Script("VIEW.frame", json::array({k, frame, data}));
+    const json head = {{"frame", frame}, {"stamp", Number(stamp)},
+                       {"image", img == image_for_frame.end() ? "" : img->second}};
+    const std::string text =
+        Script("VIEW.frameZ", json::array({k, frame, head, DeflateBase64(columns.Json().dump())}));
     AtomicWriteFile(dir + "/f" + std::to_string(frame) + ".js", text);
     site.data_bytes += text.size();
     site.frames.push_back(frame);
     frames.push_back(frame);
     stamps.push_back(Number(stamp));
   }
+  site.data_bytes += WriteFollowLinks(reader, k, dir);
   json header = json::object();
   for (const auto& [key, value] : reader.header())
     if (key != "config_json") header[key] = value;
@@ -161,6 +217,7 @@ RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_d
                         {"run", run_json},             {"schemas", schemas.list()},
                         {"frames", frames},            {"stamps", stamps},
                         {"links", link_json},          {"counts", count_json},
+                        {"digits", options.digits},    {"image_scale", options.image_scale},
                         {"trajectory", TrajectoryData(run_dir, run_json)},
                         {"divergence", divergence_json.empty() ? json() : json::parse(divergence_json)}};
   const std::string text = Script("VIEW.summary", json::array({k, summary}));

@@ -1,8 +1,9 @@
 // Data files of `dynref view` (README.md): one JavaScript file per run summary and per frame,
-// each a call `VIEW.summary(run, {...})` / `VIEW.frame(run, frame, {...})`, so that the page works
+// each a call `VIEW.summary(run, {...})` / `VIEW.frameZ(run, frame, head, packed)` (packed.h), so that the page works
 // from file:// (browsers refuse fetch() of local JSON, not <script src>). Records are the canonical
 // flat view of ref/trace (the rows `dynref trace feature` prints), stored once per frame with a
-// per-run table of record schemas (type, stage, kind, field names); floats keep full precision.
+// per-run table of record schemas (type, stage, kind, field names); numbers rounded to
+// DataOptions::digits significant digits (17: exact).
 #pragma once
 #include <cstdint>
 #include <map>
@@ -20,10 +21,15 @@ struct RunSite {
   uint64_t data_bytes = 0;          // bytes of the data files written
 };
 
-// Writes OUT/data/r<k>/summary.js and OUT/data/r<k>/f<frame>.js for every frame group of the
+struct DataOptions {
+  int digits = 6;            // significant digits of the numbers written (17: exact)
+  double image_scale = 0.5;  // overlay images' scale (the page maps clicks back to pixels)
+};
+
+// Writes OUT/data/r<k>/summary.js, OUT/data/r<k>/links.js (the links of `trace feature --follow`) and OUT/data/r<k>/f<frame>.js for every frame group of the
 // run's trace. `image_for_frame` names each frame's overlay image relative to OUT ("" none).
 // `divergence` (may be empty) is the first divergence against run 0, as `dynref diff` finds it.
-RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_dir,
+RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_dir, const DataOptions& options,
                      const std::map<int64_t, std::string>& image_for_frame, const std::string& divergence_json);
 
 }  // namespace dynref::view

@@ -7,6 +7,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -43,7 +44,9 @@ std::map<int64_t, std::string> RenderImages(const std::string& run, int k, const
     const std::string stem = fs::path(png).stem().string();
     const int64_t frame = std::stoll(stem.substr(stem.find('_') + 1));
     const std::string rel = "img/r" + std::to_string(k) + "_" + std::to_string(frame) + ".jpg";
-    const cv::Mat img = cv::imread(png, cv::IMREAD_COLOR);
+    cv::Mat img = cv::imread(png, cv::IMREAD_COLOR);
+    if (!img.empty() && options.image_scale != 1.0)
+      cv::resize(img, img, cv::Size(), options.image_scale, options.image_scale, cv::INTER_AREA);
     if (img.empty() || !cv::imwrite(out_dir + "/" + rel, img, params))
       throw InputError(out_dir + "/" + rel, "cannot write the overlay image");
     images[frame] = rel;
@@ -85,6 +88,8 @@ void ViewOptions::Check() const {
   if (runs.empty()) throw InputError("RUN", "give at least one run folder");
   if (out_dir.empty()) throw InputError("--out", "required");
   if (jpeg_quality < 1 || jpeg_quality > 100) throw InputError("--jpeg-quality", "must be 1..100");
+  if (!(image_scale >= 0.1 && image_scale <= 1.0)) throw InputError("--image-scale", "must be 0.1..1");
+  if (digits < 1 || digits > 17) throw InputError("--digits", "must be 1..17");
   for (const std::string& r : runs)
     if (!fs::exists(trace::ResolveTracePath(r))) throw InputError(r, "no trace.dtr (run with --trace full)");
   if (fs::exists(out_dir) && !fs::is_empty(out_dir) && !fs::exists(out_dir + "/" + kMarker))
@@ -106,7 +111,8 @@ ViewResult WriteSite(const ViewOptions& options) {
       if (options.overlays) images = RenderImages(run, static_cast<int>(k), tmp, options);
       const std::string divergence =
           k == 0 || !SameMethod(options.runs[0], run) ? "" : FirstDivergence(options.runs[0], run);
-      const RunSite site = WriteRunData(run, static_cast<int>(k), tmp, images, divergence);
+      const DataOptions data{options.digits, options.image_scale};
+      const RunSite site = WriteRunData(run, static_cast<int>(k), tmp, data, images, divergence);
       result.frames += static_cast<int64_t>(site.frames.size());
       result.images += static_cast<int64_t>(images.size());
       runs.push_back({{"label", site.label}, {"frames", site.frames.size()}});

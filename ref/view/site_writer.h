@@ -15,7 +15,9 @@ struct ViewOptions {
   std::vector<std::string> runs;  // run folders (the first is the oracle when several)
   std::string out_dir;
   bool overlays = true;           // render each frame's overlay (JPEG) when the sequence is readable
-  int jpeg_quality = 80;
+  int jpeg_quality = 70;
+  double image_scale = 0.5;       // overlay JPEG size relative to the frame (0.1..1)
+  int digits = 6;                 // significant digits of the numbers in the data files (1..17; 17 exact)
   bool progress = false;          // frame i/N on stderr
   void Check() const;             // InputError naming the bad option
 };

@@ -193,21 +193,3 @@ TEST_CASE("blur end to end: blurred walking sequence, people rejected, ATE far b
   CHECK(j["timing_stages"]["blur.probability"].get<double>() > 0);
 }
 
-TEST_CASE("blur reproduce: blur-table3 end to end on 30 frames, two seeds, paper values beside ours") {
-  const std::string dir = test::ScratchDir("blur_reproduce");
-  const test::CommandResult r = test::RunDynref("reproduce blur-table3 --frames 30 --seeds 1,2 --sequences sitting_static "
-                                                "--sweep none --work " + dir + "/w --out " + dir + "/t3.md");
-  INFO(r.output);
-  REQUIRE(r.exit_code == 0);
-  std::ifstream in(dir + "/t3.md");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string md = ss.str();
-  CHECK(md.find("## Ablation: ATE RMSE (m) (paper Table 3)") != std::string::npos);
-  CHECK(md.find("| sitting_static (fr3/s/static) |") != std::string::npos);
-  CHECK(md.find("| 0.0054 / 0.0026 | 0.0060 / 0.0029 | 0.0053 / 0.0025 | 0.0064 / 0.0028 |") != std::string::npos);  // paper Table 3 row, RMSE / S.D.
-  CHECK(md.find("| 15.14 | 4.37 | 11.85 | 4.29 | 7.84 | 43.49 |") != std::string::npos);  // paper Table 4 row
-  CHECK(md.find("against the true person pixels") != std::string::npos);
-  CHECK(md.find("| sitting_static | 60 |") != std::string::npos);  // truth: 2 seeds x 30 frames
-  CHECK(md.find("n/a") == std::string::npos);                      // every variant has an ATE
-}

@@ -5,12 +5,14 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "dynamic/epi/butterfly.h"
 #include "dynamic/epi/enhance.h"
+#include "dynamic/epi/enhance_terms.h"
 #include "dynamic/epi/mask_vote.h"
 #include "geometry/rigid_ransac.h"
 #include "method_e2e.h"
@@ -58,6 +60,43 @@ TEST_CASE("epi enhance: alpha 0 is the identity, alpha > 0 raises local contrast
   for (int threads : {2, 3, 4}) {
     CHECK(cv::norm(LocalWeightedEnhance(I, p, threads), more, cv::NORM_INF) == 0);
     CHECK(EnhancementFitness(more, 0.1, threads) == EnhancementFitness(more, 0.1));
+  }
+}
+
+TEST_CASE("epi enhance: the BOA's precomputed terms and reused buffers give the same bytes") {
+  // Noisy texture with saturated corners (the clamp decided without pow) and flat patches (repeated ratios).
+  cv::Mat g(90, 120, CV_8U);
+  Rng rng(7, "epi-terms");
+  for (int y = 0; y < g.rows; ++y)
+    for (int x = 0; x < g.cols; ++x)
+      g.at<uint8_t>(y, x) = uint8_t(x < 10 ? 0 : x > 110 ? 255 : y < 20 ? 128 : 40 + (x * 7 + y * 3) % 150 + int(rng.Uniform01() * 20));
+  const cv::Mat st = CdfStretch(g, 0.01).stretched;
+  EnhanceParams p;
+  EnhanceTerms terms(st, p), terms2(st, p, 3);
+  CHECK(terms.distinct_ratios() < st.total());
+  EnhanceWorkspace ws;
+  cv::Mat out, out2, out3;
+  for (const auto& [alpha, e] : std::vector<std::pair<double, double>>{{0.0, 1.0}, {2.0, 0.25}, {0.37, 3.0}, {1.1, 1.7}}) {
+    p.alpha = alpha, p.p = e;
+    const cv::Mat ref = LocalWeightedEnhance(st, p);
+    terms.Apply(alpha, e, out);
+    terms2.Apply(alpha, e, out2, 3);
+    LocalWeightedEnhance(st, p, 1, ws, out3);
+    CHECK(cv::norm(out, ref, cv::NORM_INF) == 0);
+    CHECK(std::memcmp(out.data, ref.data, ref.total() * sizeof(float)) == 0);
+    CHECK(std::memcmp(out2.data, ref.data, ref.total() * sizeof(float)) == 0);
+    CHECK(std::memcmp(out3.data, ref.data, ref.total() * sizeof(float)) == 0);
+    FitnessTerms a, b;
+    const double fa = EnhancementFitness(ref, 0.1, 1, &a), fb = EnhancementFitness(ref, 0.1, 1, &b, ws);
+    CHECK(std::memcmp(&fa, &fb, sizeof(double)) == 0);
+    CHECK(a.sobel_sum == b.sobel_sum);
+    CHECK(a.entropy == b.entropy);
+  }
+  EnhanceBuffers buffers;
+  for (int i = 0; i < 2; ++i) {  // the second call reuses every buffer
+    const EnhanceResult fresh = Enhance(g, p), reused = Enhance(g, p, 1, buffers);
+    CHECK(std::memcmp(fresh.grey8.data, reused.grey8.data, fresh.grey8.total()) == 0);
+    CHECK(fresh.fitness == reused.fitness);
   }
 }
 
@@ -148,65 +187,3 @@ TEST_CASE("epi end to end: dynref enhance, and A + C on a low-light walking sequ
   CHECK(bad.output.find("not written by dynref enhance") != std::string::npos);
 }
 
-TEST_CASE("epi reproduce: epi-table2 end to end on 10 frames, paper rows beside ours") {
-  const std::string dir = test::ScratchDir("epi_reproduce");
-  const test::CommandResult bad = test::RunDynref("reproduce epi-table2 --frames 10 --gap 10 --work " + dir + "/w --out " + dir + "/t2.md");
-  CHECK(bad.exit_code == 2);
-  CHECK(bad.output.find("--gap") != std::string::npos);
-  CHECK_FALSE(test::FileExists(dir + "/w"));
-  const test::CommandResult r =
-      test::RunDynref("reproduce epi-table2 --frames 10 --seeds 1 --work " + dir + "/w --out " + dir + "/t2.md");
-  INFO(r.output);
-  REQUIRE(r.exit_code == 0);
-  std::ifstream in(dir + "/t2.md");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  const std::string md = ss.str();
-  CHECK(md.find("| Light change | ORB + MNN2 | 1 |") != std::string::npos);  // one pair (0, 5) per sequence
-  CHECK(md.find("| Low light (both frames dark) | SIFT + BF |") != std::string::npos);
-  // The distance distributions the backbone's SIFT gates are read from (issue 17).
-  CHECK(md.find("| SIFT correct | ") != std::string::npos);
-  CHECK(md.find("| SIFT wrong | ") != std::string::npos);
-  CHECK(md.find("| ORB wrong | ") != std::string::npos);
-  CHECK(md.find("| Light change | Zippypoint + MNN2 | 295 | 83.10 | 0.245 |") != std::string::npos);  // paper row
-  CHECK(md.find("| Low-texture environments | ORB + BF | 0 | 0.00 | 0.719 |") != std::string::npos);
-}
-
-TEST_CASE("epi reproduce: epi-table3 end to end on 30 frames (ATE, ablation, mask vote, time), bad arguments first") {
-  const std::string dir = test::ScratchDir("epi_reproduce_t3");
-  const test::CommandResult bad = test::RunDynref("reproduce epi-table3 --frames 30 --sequences walking_static "
-                                                  "--ablation-sequences crowd --work " + dir + "/w --out " + dir + "/t3.md");
-  CHECK(bad.exit_code == 2);
-  CHECK(bad.output.find("--ablation-sequences") != std::string::npos);
-  CHECK_FALSE(test::FileExists(dir + "/w"));
-  const test::CommandResult r = test::RunDynref(
-      "reproduce epi-table3 --frames 30 --seeds 1 --sequences walking_static --ablation-sequences walking_static "
-      "--timing-sequence walking_static --work " + dir + "/w --out " + dir + "/t3.md");
-  INFO(r.output);
-  REQUIRE(r.exit_code == 0);
-  const std::string md = test::ReadFileBytes(dir + "/t3.md");
-  INFO(md);
-  // Paper values beside ours: Table 3 (w_static RMSE 0.0078), Table 6 (None 0.4094 ... ALL 0.0078).
-  CHECK(md.find("| walking_static | normal light |") != std::string::npos);
-  CHECK(md.find("| 0.0069 | 0.0063 | 0.0078 | 0.0036 |") != std::string::npos);
-  CHECK(md.find("| 0.4094 | 0.3463 | 0.3397 | 0.0097 | 0.0084 | 0.0081 | 0.0078 |") != std::string::npos);
-  // Module C decided on masks in every frame after the first; the table counts them.
-  const size_t at = md.find("| walking_static | normal light | epi | ");
-  REQUIRE(at != std::string::npos);
-  CHECK(std::stoi(md.substr(at + std::string("| walking_static | normal light | epi | ").size())) > 20);
-  CHECK(md.find("| OURS | RTX 4060 Ti | 41.9–58.4 |") != std::string::npos);  // Table 7 as printed
-  // Module B (issue 17): the B, B + C and ALL columns ran, ALL voted on masks and was timed.
-  CHECK(md.find("B (epi_B) | C (epi_C) | A + C (epi) | B + C (epi_BC) | ALL (epi_ALL) |") != std::string::npos);
-  const size_t all = md.find("| walking_static | normal light | epi_ALL | ");
-  REQUIRE(all != std::string::npos);
-  CHECK(std::stoi(md.substr(all + std::string("| walking_static | normal light | epi_ALL | ").size())) > 20);
-  CHECK(md.find("| epi_ALL | normal light | ") != std::string::npos);
-  // Every dynref column of the Table 6 row has a value ("-" = no ATE).
-  const size_t t6 = md.find("| walking_static | normal light |", md.find("## Module ablation"));
-  REQUIRE(t6 != std::string::npos);
-  std::string row = md.substr(t6, md.find('\n', t6) - t6);
-  std::vector<std::string> cells;
-  for (size_t b = 1, e; (e = row.find('|', b)) != std::string::npos; b = e + 1) cells.push_back(row.substr(b, e - b));
-  REQUIRE(cells.size() >= 9);
-  for (size_t c = 2; c < 9; ++c) CHECK(cells[c] != " - ");
-}

@@ -1,8 +1,12 @@
 // MGD-SLAM formulas (seed 000 Sec. 3.4-3.5) against values computed by hand (python3 math):
 // each fails if a sign, a weight or the smoothing direction flips.
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 
+#include "core/rng.h"
+#include "dynamic/mgd/neighbour_grid.h"
 #include "dynamic/mgd/probability.h"
 
 using namespace dynref::mgd;
@@ -93,6 +97,72 @@ TEST_CASE("mgd diffusion: 2, 3 and 4 threads give the values of 1 (issue 18)") {
     CHECK(Diffuse(X, has, p, 0.15, &nb, threads) == q1);
     CHECK(nb == nb1);
   }
+}
+
+namespace {
+// The O(n^2) scan Diffuse replaced (issue 35): every j ascending.
+std::vector<double> DiffuseByScan(const std::vector<Eigen::Vector3d>& X, const std::vector<bool>& has,
+                                  const std::vector<double>& p, double r, std::vector<int>* nb) {
+  std::vector<double> out = p;
+  nb->assign(p.size(), 0);
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (!has[i]) continue;
+    double sum_w = 0, sum_wp = 0;
+    for (size_t j = 0; j < p.size(); ++j) {
+      if (j == i || !has[j]) continue;
+      const double d2 = (X[i] - X[j]).squaredNorm();
+      if (d2 > r * r) continue;
+      const double w = std::exp(-std::sqrt(d2) / r);
+      sum_w += w, sum_wp += w * (p[j] - p[i]), ++(*nb)[i];
+    }
+    out[i] = p[i] + sum_wp / (1.0 + sum_w);
+  }
+  return out;
+}
+}  // namespace
+
+TEST_CASE("mgd diffusion: the neighbour grid gives the scan's bytes (issue 35)") {
+  // Random points, pairs exactly r apart across cell borders, negative coordinates; then a NaN point
+  // (the scan counts a NaN distance as a neighbour: the grid falls back to the scan).
+  dynref::Rng rng(11, "mgd-grid");
+  std::vector<Eigen::Vector3d> X;
+  std::vector<bool> has;
+  std::vector<double> p;
+  for (int i = 0; i < 700; ++i) {
+    X.emplace_back(rng.Uniform(-1, 1), rng.Uniform(-0.5, 0.5), rng.Uniform(0.5, 2));
+    has.push_back(i % 9 != 0);
+    p.push_back(rng.Uniform01());
+  }
+  for (int i = 0; i < 20; ++i) {
+    X.emplace_back(0.1515 * i, 0.0, 1.0), has.push_back(true), p.push_back(0.05 * i);
+    X.emplace_back(0.1515 * i + 0.15, 0.0, 1.0), has.push_back(true), p.push_back(1.0 - 0.05 * i);
+  }
+  for (bool with_nan : {false, true}) {
+    if (with_nan) X[5] = {std::nan(""), 0.0, 1.0}, has[5] = true;
+    std::vector<int> nb_scan, nb;
+    const std::vector<double> a = DiffuseByScan(X, has, p, 0.15, &nb_scan);
+    const std::vector<double> b = Diffuse(X, has, p, 0.15, &nb);
+    REQUIRE(a.size() == b.size());
+    CHECK(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
+    CHECK(nb == nb_scan);
+    CHECK(*std::max_element(nb.begin(), nb.end()) > 2);
+  }
+}
+
+TEST_CASE("mgd neighbour grid: candidates are a superset of the radius, ascending") {
+  std::vector<Eigen::Vector3d> X;
+  for (int i = 0; i < 300; ++i) X.emplace_back(0.037 * (i % 17) - 0.3, 0.051 * (i % 13), 0.0);
+  const NeighbourGrid grid(X, std::vector<bool>(X.size(), true), 0.1 * 1.01);
+  CHECK(grid.all_finite());
+  std::vector<uint32_t> near;
+  for (size_t i = 0; i < X.size(); ++i) {
+    grid.Near(X[i], &near);
+    CHECK(std::is_sorted(near.begin(), near.end()));
+    for (size_t j = 0; j < X.size(); ++j)
+      if ((X[i] - X[j]).norm() <= 0.1) CHECK(std::binary_search(near.begin(), near.end(), uint32_t(j)));
+  }
+  CHECK_FALSE(NeighbourGrid({{std::nan(""), 0, 0}}, {true}, 1.0).all_finite());
+  CHECK(NeighbourGrid({{std::nan(""), 0, 0}}, {false}, 1.0).all_finite());  // unused points do not count
 }
 
 TEST_CASE("mgd options: out-of-range values are named") {

@@ -137,33 +137,3 @@ TEST_CASE("semantic floor fit: a planted tilted floor is recovered under clutter
   CHECK(f.d == Approx(d).margin(0.01));
 }
 
-namespace {
-
-// The number in the table cell after `label` in `row_prefix`'s row ("3.60 ± 0.05" -> 3.60).
-double GhostCell(const std::string& md, const std::string& row_prefix) {
-  const size_t at = md.find(row_prefix);
-  if (at == std::string::npos) return -1;
-  const std::string row = md.substr(at, md.find('\n', at) - at);
-  const size_t last = row.rfind("| ", row.size() - 3);  // the last cell
-  return std::stod(row.substr(last + 2));
-}
-
-}  // namespace
-
-TEST_CASE("semantic reproduce: semantic-filesizes end to end on 30 frames, fewer ghosts than without removal") {
-  const std::string dir = test::ScratchDir("semantic_reproduce");
-  const test::CommandResult r = test::RunDynref("reproduce semantic-filesizes --frames 30 --seeds 1 --sequences walking_xyz --work " +
-                                                dir + "/w --out " + dir + "/r/semantic-filesizes.md");
-  INFO(r.output);
-  REQUIRE(r.exit_code == 0);
-  const std::string md = test::ReadFileBytes(dir + "/r/semantic-filesizes.md");
-  CHECK(md.find("## Map files per stage, MB (semantic run)") != std::string::npos);
-  CHECK(md.find("| walking_xyz | 30 | - | - |") != std::string::npos);  // no paper size for fr3/w/xyz
-  CHECK(test::FileExists(dir + "/r/semantic-filesizes_ghosts.png"));
-  const double with_removal = GhostCell(md, "| walking_xyz | semantic (seed 002) |");
-  const double without = GhostCell(md, "| walking_xyz | same mapping, no removal |");
-  CHECK(with_removal >= 0);
-  CHECK(with_removal < without);
-  CHECK(md.find("| Sequence | detections | truly moving | said non-prior dynamic | precision % | recall % |") != std::string::npos);
-  test::ExpectBadInput("reproduce semantic-filesizes --frames 10 --work " + dir + "/x --out " + dir + "/x.md", "--frames");
-}

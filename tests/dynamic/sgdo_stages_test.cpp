@@ -138,7 +138,7 @@ TEST_CASE("sgdo stages: person moving off the epipolar lines is rejected, backgr
   Param classes;
   classes.list = {"person"};
   auto mask = sgdo.stage("sgdo.mask", Params("sgdo.mask",
-      {{"dynamic_classes", classes}, {"min_confidence", P("0.25")}, {"dilation_kernel_px", P("5")},
+      {{"dynamic_classes", classes}, {"min_confidence", P("0.25")}, {"threshold_scale", P("detector")}, {"dilation_kernel_px", P("5")},
        {"reject_in_mask", P("false")}}));
   auto coarse = sgdo.stage("sgdo.coarse", Params("sgdo.coarse", CoarseParams("per_point")));
   auto depth = sgdo.stage("sgdo.depth", Params("sgdo.depth",
@@ -251,7 +251,7 @@ TEST_CASE("sgdo stages: dense map stage writes a PLY of the unmasked keyframe pi
   Param classes;
   classes.list = {"person"};
   auto mask = sgdo.stage("sgdo.mask", Params("sgdo.mask",
-      {{"dynamic_classes", classes}, {"min_confidence", P("0.25")}, {"dilation_kernel_px", P("1")},
+      {{"dynamic_classes", classes}, {"min_confidence", P("0.25")}, {"threshold_scale", P("detector")}, {"dilation_kernel_px", P("1")},
        {"reject_in_mask", P("true")}}));
   auto dense = sgdo.module("sgdo.densemap", Params("sgdo.densemap", DenseMapParams()));
   Map map;
@@ -296,17 +296,6 @@ TEST_CASE("sgdo stages: dense map output with a '..' component is refused naming
     INFO(ok);
     CHECK_NOTHROW(make(ok));
   }
-}
-
-TEST_CASE("sgdo reproduce: bad arguments exit 2 without running anything") {
-  const std::string dir = test::ScratchDir("sgdo_reproduce_args");
-  const test::CommandResult r =
-      test::RunDynref("reproduce sgdo-table6 --frames 10 --work " + dir + "/w --out " + dir + "/t.md");
-  INFO(r.output);
-  CHECK(r.exit_code == 2);
-  CHECK(r.output.find("--frames") != std::string::npos);
-  CHECK(!test::FileExists(dir + "/w"));
-  CHECK(!test::FileExists(dir + "/t.md"));
 }
 
 TEST_CASE("sgdo stages: a culled reference keyframe is replaced by its live parent (issue 21 defect 5)") {

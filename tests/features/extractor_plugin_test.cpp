@@ -112,6 +112,12 @@ TEST_CASE("plugin: SuperPoint score decoding, NMS order and bilinear descriptor 
   CHECK(scores.at<float>(9, 1) > 0.99f);
   CHECK(scores.at<float>(0, 0) < 0.01f);
   CHECK_THROWS_AS(DecodeScoreMap(Blob(7, 2, 2), 16, 16), std::invalid_argument);
+  // Issue 37: a score map at 2x the expected resolution (65 x 4 x 4 or 1 x 32 x 32 for 16 x 16)
+  // placed keypoints at the wrong pixels; refused with the expected shape.
+  CHECK_THROWS_WITH(DecodeScoreMap(Blob(65, 4, 4), 16, 16), Catch::Contains("65 x 2 x 2"));
+  CHECK_THROWS_WITH(DecodeScoreMap(Blob(1, 32, 32), 16, 16), Catch::Contains("must be 16 x 16"));
+  CHECK_NOTHROW(DecodeScoreMap(Blob(1, 16, 16), 16, 16));
+  CHECK_NOTHROW(DecodeScoreMap(Blob(65, 2, 2), 12, 12));  // 12 x 12 padded to 16 x 16
   // NMS: (5, 5) 0.9 suppresses (6, 7) 0.8 within radius 2; (10, 10) and (10, 3) tie -> row, then column.
   cv::Mat m(16, 16, CV_32F, cv::Scalar(0));
   m.at<float>(5, 5) = 0.9f, m.at<float>(6, 7) = 0.8f, m.at<float>(10, 10) = 0.5f, m.at<float>(10, 3) = 0.5f;

@@ -129,6 +129,11 @@ TEST_CASE("camera: ORB-SLAM2 YAML out-of-range values and duplicate keys name fi
       {"Camera.fps: 30.0", "Camera.fps: 0", ":13: Camera.fps must be positive"},
       {"Camera.width: 640", "Camera.width: 1e12", ":11: Camera.width must be an integer"},
       {"Camera.fy: 516.5", "Camera.fy: 0", ":3: Camera.fy must be positive"},
+      // Issue 37: ThDepth -1 was accepted; every value has an upper bound too.
+      {"ThDepth: 40.0", "ThDepth: -1", ":16: ThDepth must be positive"},
+      {"ThDepth: 40.0", "ThDepth: 0", ":16: ThDepth must be positive"},
+      {"ThDepth: 40.0", "ThDepth: 1e308", ":16: ThDepth must be positive (close points are nearer than ThDepth baselines) and at most 10000.0, got 1e+308"},
+      {"Camera.fx: 517.3", "Camera.fx: 1e300", ":2: Camera.fx must be positive and at most 1000000"},
       {"DepthMapFactor: 5000.0", "DepthMapFactor: 5000.0\nCamera.fx: 600.0",
        ":18: duplicate key 'Camera.fx' (first given at line 2)"},
   };

@@ -68,7 +68,7 @@ TEST_CASE("method config: out-of-range backbone integers are errors with file:li
       {"max_frames: {value: 2147483647, source: s}", "backbone.max_frames: must be in 1..100000"},
       {"reloc_recent_keyframes: {value: -1, source: s}", "backbone.reloc_recent_keyframes: must"},
       {"seed: {value: 1e30, source: s}", "backbone.seed: must be in 0..9007199254740992"},
-      {"n_features: {value: 10.5, source: s}", "not an integer: 10.5"},
+      {"n_features: {value: 10.5, source: s}", "backbone.n_features: not an integer: 10.5"},
   };
   int n = 0;
   for (const Case& c : cases) {

@@ -230,3 +230,21 @@ TEST_CASE("diff --summary: final pose deviation and probability differences over
   CHECK(cli.exit_code == 1);
   CHECK(cli.output.find("translation_mm,2,") != std::string::npos);
 }
+
+TEST_CASE("diff: an empty JSONL trace exits 2 like an empty binary one and --tol of an unknown field is refused (issue 37)") {
+  const std::string dir = dynref::test::ScratchDir("diff_cli_issue37");
+  const std::string a = Sample(dir, "a.dtr");
+  REQUIRE(RunDynref("trace dump '" + a + "' --format jsonl > '" + dir + "/a.jsonl'").exit_code == 0);
+  std::ofstream(dir + "/empty.jsonl").flush();
+  const auto empty = RunDynref("diff '" + dir + "/a.jsonl' '" + dir + "/empty.jsonl'");
+  CHECK(empty.exit_code == 2);
+  CHECK(empty.output.find("empty.jsonl: empty JSONL trace (no records)") != std::string::npos);
+  const auto bogus = RunDynref("diff '" + a + "' '" + a + "' --tol bogus_field=1");
+  CHECK(bogus.exit_code == 2);
+  CHECK(bogus.output.find("--tol: no float field 'bogus_field' in the compared records") != std::string::npos);
+  // A field the records have (or its base name) is accepted.
+  const DiffResult r = DiffTraces(a, a, {});
+  REQUIRE_FALSE(r.field_errors.empty());
+  const std::string field = r.field_errors.begin()->first;
+  CHECK(RunDynref("diff '" + a + "' '" + a + "' --tol '" + field.substr(0, field.find('[')) + "=1'").exit_code == 0);
+}

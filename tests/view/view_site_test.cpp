@@ -3,6 +3,7 @@
 // `dynref trace feature` record for record; a click on a feature opens its history; a screenshot
 // of the page is kept in the test's folder (build/test_scratch/...).
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -59,13 +60,17 @@ struct Row {
   std::string frame, type, stage, kind, entity, occurrence;
   std::vector<std::pair<std::string, std::string>> fields;
 };
-std::vector<Row> CliHistory(const std::string& run, const std::string& id) {
-  const auto r = RunDynref("trace feature " + Quote(run) + " " + id + " 2>/dev/null");
+// `chain` (with --follow): the "# <frame> -> <entity> (<via>, from <entity>)" lines.
+std::vector<Row> CliHistory(const std::string& run, const std::string& id, bool follow = false,
+                            std::vector<std::string>* chain = nullptr) {
+  const auto r = RunDynref("trace feature " + Quote(run) + " " + id + (follow ? " --follow" : "") + " 2>/dev/null");
   REQUIRE(r.exit_code == 0);
   std::vector<Row> rows;
   std::istringstream in(r.output);
   std::string line;
   while (std::getline(in, line)) {
+    if (chain && line.rfind("# ", 0) == 0 && line.rfind("# chain of ", 0) != 0 && line.find(" -> ") != std::string::npos)
+      chain->push_back(line);  // one line per linked entity, not the chain's header line
     if (line.empty() || line[0] == '#' || line.rfind("frame,", 0) == 0) continue;
     std::vector<std::string> cols;
     std::string cur;
@@ -90,8 +95,18 @@ std::vector<Row> CliHistory(const std::string& run, const std::string& id) {
 
 std::string JsonText(const nlohmann::json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
 
-// Record for record: same keys, exact fields equal as text, numbers equal as doubles.
-void CheckSameHistory(const std::vector<Row>& cli, const nlohmann::json& page) {
+// `text` (a number trace feature prints) rounded as the page writes it (ref/view/packed.h).
+double Rounded(const std::string& text, int digits) {
+  const double v = std::strtod(text.c_str(), nullptr);
+  if (digits >= 17) return v;
+  char buf[40];
+  std::snprintf(buf, sizeof(buf), "%.*g", digits, v);
+  return std::strtod(buf, nullptr);
+}
+
+// Record for record: same keys, exact fields equal as text, numbers equal as doubles once rounded
+// to the site's significant digits (17: exact).
+void CheckSameHistory(const std::vector<Row>& cli, const nlohmann::json& page, int digits = 17) {
   const nlohmann::json& rows = page.at("rows");
   REQUIRE(rows.size() == cli.size());
   for (size_t i = 0; i < cli.size(); ++i) {
@@ -107,7 +122,7 @@ void CheckSameHistory(const std::vector<Row>& cli, const nlohmann::json& page) {
     for (const auto& [name, text] : cli[i].fields) {
       REQUIRE(p[6].contains(name));
       const nlohmann::json& v = p[6][name];
-      if (v.is_number()) CHECK(v.get<double>() == std::strtod(text.c_str(), nullptr));
+      if (v.is_number()) CHECK(v.get<double>() == Rounded(text, digits));
       else CHECK(v.get<std::string>() == text);
     }
   }
@@ -118,15 +133,34 @@ void CheckSameHistory(const std::vector<Row>& cli, const nlohmann::json& page) {
 TEST_CASE("view end to end: golden mgd_30f mp34's history in Chromium equals dynref trace feature, suppression included", "[view][slow]") {
   const std::string dir = dynref::test::ScratchDir("view_golden_mp34");
   const std::string golden = dynref::test::SourcePath("golden/mgd_30f");
-  const auto v = RunDynref("view " + Quote(golden) + " --out " + Quote(dir + "/site"));
+  const auto v = RunDynref("view " + Quote(golden) + " --digits 17 --no-overlays --out " + Quote(dir + "/site"));
   INFO(v.output);
   REQUIRE(v.exit_code == 0);
   const std::vector<Row> cli = CliHistory(golden, "mp34");
-  bool suppressed_at_1 = false;
-  for (const Row& r : cli) suppressed_at_1 = suppressed_at_1 || (r.frame == "1" && r.type == "decision" && r.fields.size() > 0 && r.fields[0].second == "0");
-  CHECK(suppressed_at_1);
-  const nlohmann::json page = PageHistory(dir + "/site", "entity=mp34", dir);
+  std::string suppressed;  // mp34's feature in frame 1, rejected by mgd.probability
+  for (const Row& r : cli)
+    if (r.frame == "1" && r.type == "decision" && r.fields.size() > 0 && r.fields[0].second == "0") suppressed = r.entity;
+  CHECK(!suppressed.empty());
+  const nlohmann::json page = PageHistory(dir + "/site", "entity=mp34&follow=0", dir);
   CheckSameHistory(cli, page);
+
+  SECTION("the followed chain of the suppressed feature equals trace feature --follow, link for link") {
+    REQUIRE(!suppressed.empty());
+    std::vector<std::string> chain;
+    const std::vector<Row> followed = CliHistory(golden, suppressed, true, &chain);
+    const nlohmann::json fpage = PageHistory(dir + "/site", "entity=" + suppressed + "&follow=1", dir);
+    CHECK(fpage.at("follow") == true);
+    CheckSameHistory(followed, fpage);
+    std::vector<std::string> page_chain;
+    for (const nlohmann::json& c : fpage.at("chain")) {
+      const int64_t frame = c[0].get<int64_t>();
+      const std::string from = c[3];
+      page_chain.push_back("# " + (frame >= 0 ? std::to_string(frame) : std::string("-")) + " -> " + c[1].get<std::string>() +
+                           " (" + c[2].get<std::string>() + (from.empty() ? "" : ", from " + from) + ")");
+    }
+    CHECK(page_chain == chain);
+    CHECK(chain.size() > 3);  // frames before and after, and the map point
+  }
 }
 
 TEST_CASE("view end to end: a 30-frame mgd run, a click on a feature opens its history as trace feature, screenshot kept", "[view][slow]") {
@@ -153,12 +187,27 @@ TEST_CASE("view end to end: a 30-frame mgd run, a click on a feature opens its h
   REQUIRE(!entity.empty());
   REQUIRE(uv.count(entity));
   const auto [u, v2] = uv[entity];
-  const nlohmann::json page = PageHistory(dir + "/site", "frame=10&click=" + std::to_string(u) + "," + std::to_string(v2), dir);
+  const nlohmann::json page = PageHistory(dir + "/site", "follow=0&frame=10&click=" + std::to_string(u) + "," + std::to_string(v2), dir);
   // The click may land on a neighbour within a pixel: compare with the entity the page chose.
   const std::string clicked = page.at("entity");
-  CheckSameHistory(CliHistory(dir + "/run", clicked), page);
+  CheckSameHistory(CliHistory(dir + "/run", clicked), page, 6);  // the default --digits 6
+  // Its followed chain, as trace feature --follow (numbers to 6 digits).
+  std::vector<std::string> chain;
+  const std::vector<Row> followed = CliHistory(dir + "/run", clicked, true, &chain);
+  const nlohmann::json fpage = PageHistory(dir + "/site", "entity=" + clicked + "&follow=1", dir);
+  CheckSameHistory(followed, fpage, 6);
+  CHECK(fpage.at("chain").size() == chain.size());
+  // Size bound (README "Size"): data and overlays per frame of a --trace full mgd run.
+  uint64_t data = 0, images = 0;
+  for (const auto& e : fs::recursive_directory_iterator(dir + "/site"))
+    if (e.is_regular_file()) (e.path().extension() == ".jpg" ? images : data) += e.file_size();
+  INFO("data " << data << " B, images " << images << " B for 30 frames");
+  // A regression bound at today's size (247 KB per frame measured on this run), not the issue's
+  // target: ~50 MB for 300 frames is ~170 KB per frame, not reached yet (ref/view/README.md "Size").
+  CHECK(data / 30 < 300 * 1024);
+  CHECK(images / 30 < 40 * 1024);
   // Screenshot of the page with that history open (kept beside the test's outputs).
-  const std::string url = "file://" + fs::absolute(dir + "/site").string() + "/index.html?frame=10&entity=" + clicked;
+  const std::string url = "file://" + fs::absolute(dir + "/site").string() + "/index.html?frame=10&follow=1&entity=" + clicked;
   const std::string png = dir + "/viewer_screenshot.png";
   RunShell(Chromium() + ChromiumFlags(dir + "/profile2") + " --window-size=1500,1100 --screenshot=" + Quote(png) + " " + Quote(url) + " 2>/dev/null");
   CHECK(fs::exists(png));

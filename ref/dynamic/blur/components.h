@@ -12,6 +12,7 @@
 #include "dynamic/blur/fused_mask.h"
 #include "dynamic/blur/keypoint_probability.h"
 #include "io/mask_layers.h"
+#include "method/detection_tally.h"
 #include "method/params.h"
 #include "method/stage.h"
 
@@ -46,6 +47,7 @@ class MaskStage : public Stage {
   std::unique_ptr<FusedMaskBuilder> builder_;  // created at the first frame (image size)
   std::unique_ptr<MaskLayersWriter> layers_;   // null unless write_mask_layers
   std::map<int, std::string> track_entity_;    // trace full: entity of every live track's last state
+  DetectionTally tally_;                        // persons seen / dropped by min_confidence (issue 39)
   void TraceMask(trace::TraceWriter& tr, const Frame& f, const FusedMask& m);
 };
 

@@ -27,11 +27,12 @@ FusedMaskBuilder::FusedMaskBuilder(const FusedMaskOptions& options, cv::Size ima
       rng_(o_.sampling_seed, "blur.depth_sampling") {}
 
 FusedMask FusedMaskBuilder::Build(const FrameDetections& det, const cv::Mat& depth_m, double stamp,
-                                  const std::string& source) {
+                                  const std::string& source, double min_confidence) {
+  const double threshold = min_confidence < 0 ? o_.min_confidence : min_confidence;
   FusedMask out;
   // 1. Segmenter persons (box-only detections enter as their box).
   for (const DetectedInstance& inst : det.instances) {  // ascending id
-    if (inst.confidence < o_.min_confidence || !o_.person_class_ids.count(inst.class_id)) continue;
+    if (inst.confidence < threshold || !o_.person_class_ids.count(inst.class_id)) continue;
     PersonMask pm;
     pm.detection_id = inst.id;
     if (inst.has_mask && !det.instance_ids.empty()) {

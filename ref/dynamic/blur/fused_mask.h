@@ -50,7 +50,10 @@ class FusedMaskBuilder {
  public:
   FusedMaskBuilder(const FusedMaskOptions& options, cv::Size image_size);  // std::invalid_argument
   // InputError (naming `source`) for a detection mask whose size differs from the image.
-  FusedMask Build(const FrameDetections& detections, const cv::Mat& depth_m, double stamp, const std::string& source);
+  // `min_confidence` < 0: the options' value; else the threshold the stage applies to this
+  // source's raw confidences (issue 39, detect/score_calibration.h).
+  FusedMask Build(const FrameDetections& detections, const cv::Mat& depth_m, double stamp, const std::string& source,
+                  double min_confidence = -1);
 
  private:
   FusedMaskOptions o_;

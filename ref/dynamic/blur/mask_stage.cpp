@@ -13,7 +13,7 @@
 namespace dynref::blur {
 
 FusedMaskOptions MaskOptionsFromParams(const ParamMap& p) {
-  p.RequireKnownKeys({"person_classes", "min_confidence", "compensation", "r_threshold", "history", "iou_found",
+  p.RequireKnownKeys({"person_classes", "min_confidence", "threshold_scale", "compensation", "r_threshold", "history", "iou_found",
                       "max_consecutive", "depth_fusion", "grid_cols", "grid_rows", "samples_per_cell", "alpha_m",
                       "sigma_mult", "dilation_size", "sampling_seed", "write_mask_layers"});
   FusedMaskOptions o;
@@ -42,7 +42,7 @@ FusedMaskOptions MaskOptionsFromParams(const ParamMap& p) {
 }
 
 MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Board> board)
-    : o_(MaskOptionsFromParams(p)), board_(std::move(board)) {
+    : o_(MaskOptionsFromParams(p)), board_(std::move(board)), tally_(name(), p) {
   if (p.GetBool("write_mask_layers"))
     layers_ = std::make_unique<MaskLayersWriter>(std::vector<MaskLayer>{{kSegmenter, "segmenter", 255, 64, 64},
                                                                         {kCompensation, "compensation", 255, 200, 0},
@@ -51,6 +51,7 @@ MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Board> board)
 }
 
 void MaskStage::Finish(RunEnd& end) {
+  tally_.Report(end);
   if (!layers_ || end.out_dir().empty()) return;
   const size_t n = layers_->Write(end.out_dir() + "/masks");
   end.AddOutput(name(), end.out_dir() + "/masks", "origin of every M_sd pixel, " + std::to_string(n) +
@@ -129,7 +130,10 @@ void MaskStage::Run(StageContext& ctx) {
   if (f.detections == nullptr)
     throw InputError("--detections", "blur.mask needs person masks for frame " + f.stamp_text + " (run with --detections DIR)");
   if (!builder_) builder_ = std::make_unique<FusedMaskBuilder>(o_, cv::Size(ctx.camera.width, ctx.camera.height));
-  const FusedMask m = builder_->Build(*f.detections, f.depth_m, f.stamp, "--detections");
+  const double threshold = tally_.Threshold(*f.detections);
+  for (const DetectedInstance& inst : f.detections->instances)
+    if (o_.person_class_ids.count(inst.class_id)) tally_.Count(inst.confidence < threshold);
+  const FusedMask m = builder_->Build(*f.detections, f.depth_m, f.stamp, "--detections", threshold);
   trace::TraceWriter& tr = ctx.trace;
   if (tr.full_enabled()) TraceMask(tr, f, m);
   Board& board = *board_;

@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "core/parallel.h"
+#include "dynamic/epi/enhance_pixel.h"
 
 namespace dynref::epi {
 
@@ -56,54 +57,86 @@ StretchResult CdfStretch(const cv::Mat& grey8, double s) {
   return r;
 }
 
-cv::Mat LocalWeightedEnhance(const cv::Mat& I, const EnhanceParams& p, int threads) {
+namespace {
+
+// The w x w box means of I and of I^2 (c) into the workspace.
+void BoxMeans(const cv::Mat& I, int window, EnhanceWorkspace& ws) {
+  const cv::Size k(window, window);
+  cv::boxFilter(I, ws.mu, CV_32F, k, cv::Point(-1, -1), true, cv::BORDER_REFLECT_101);
+  cv::multiply(I, I, ws.sq);  // what I.mul(I) evaluates to
+  cv::boxFilter(ws.sq, ws.mu2, CV_32F, k, cv::Point(-1, -1), true, cv::BORDER_REFLECT_101);
+}
+
+}  // namespace
+
+void LocalWeightedEnhance(const cv::Mat& I, const EnhanceParams& p, int threads, EnhanceWorkspace& ws, cv::Mat& out) {
   CV_Assert(I.type() == CV_32F);
-  const cv::Size k(p.window, p.window);
-  cv::Mat mu, mu2;
-  cv::boxFilter(I, mu, CV_32F, k, cv::Point(-1, -1), true, cv::BORDER_REFLECT_101);
-  cv::boxFilter(I.mul(I), mu2, CV_32F, k, cv::Point(-1, -1), true, cv::BORDER_REFLECT_101);
-  cv::Mat out(I.size(), CV_32F);
+  BoxMeans(I, p.window, ws);
+  out.create(I.size(), CV_32F);
+  const bool bounded = p.alpha > 0;  // pixel::Saturation may decide the clamp without pow
   ParallelForEach(size_t(I.rows), threads, [&](size_t row) {
     const int y = int(row);
     const float* i = I.ptr<float>(y);
-    const float* m = mu.ptr<float>(y);
-    const float* m2 = mu2.ptr<float>(y);
+    const float* m = ws.mu.ptr<float>(y);
+    const float* m2 = ws.mu2.ptr<float>(y);
     float* o = out.ptr<float>(y);
     for (int x = 0; x < I.cols; ++x) {
-      const double sigma = std::sqrt(std::max(0.0, double(m2[x]) - double(m[x]) * m[x]));
-      const double d = double(i[x]) - m[x];
-      const double w = p.alpha * std::pow(std::abs(d) / (sigma + p.e0), p.p);
-      o[x] = float(std::clamp(m[x] + (1.0 + w) * d, 0.0, 1.0));
+      double d;
+      const double ratio = pixel::ContrastRatio(i[x], m[x], m2[x], p.e0, &d);
+      const pixel::Side side = bounded ? pixel::Saturation(m[x], d) : pixel::kInside;
+      o[x] = side != pixel::kInside ? pixel::BoundOf(side) : pixel::Weighted(m[x], d, p.alpha * std::pow(ratio, p.p));
     }
   }, 16);
+}
+
+cv::Mat LocalWeightedEnhance(const cv::Mat& I, const EnhanceParams& p, int threads) {
+  EnhanceWorkspace ws;
+  cv::Mat out;
+  LocalWeightedEnhance(I, p, threads, ws, out);
   return out;
 }
 
-double EnhancementFitness(const cv::Mat& E, double edge_threshold, int threads, FitnessTerms* terms) {
-  cv::Mat gx, gy;
-  cv::Sobel(E, gx, CV_32F, 1, 0, 3, 1, 0, cv::BORDER_REFLECT_101);
-  cv::Sobel(E, gy, CV_32F, 0, 1, 3, 1, 0, cv::BORDER_REFLECT_101);
-  // Gradient magnitudes row by row (any thread count), then one sum in pixel order.
-  cv::Mat mags(E.size(), CV_64F);
-  ParallelForEach(size_t(E.rows), threads, [&](size_t row) {
-    const int y = int(row);
-    const float* a = gx.ptr<float>(y);
-    const float* b = gy.ptr<float>(y);
-    double* m = mags.ptr<double>(y);
-    for (int x = 0; x < E.cols; ++x) m[x] = std::sqrt(double(a[x]) * a[x] + double(b[x]) * b[x]);
-  }, 16);
+namespace {
+
+// sum |Sobel|, the edge count and the 256-bin histogram of E in pixel order. One thread: the
+// magnitudes inline; more: magnitudes by rows into ws.mags first (the same doubles), then one sum.
+void GradientSums(const cv::Mat& E, double edge_threshold, int threads, EnhanceWorkspace& ws, double* sum,
+                  int64_t* edges, std::array<int64_t, 256>* hist) {
+  const auto magnitude = [&](int y, int x) {
+    const float a = ws.gx.ptr<float>(y)[x], b = ws.gy.ptr<float>(y)[x];
+    return std::sqrt(double(a) * a + double(b) * b);
+  };
+  if (threads > 1) {
+    ws.mags.create(E.size(), CV_64F);
+    ParallelForEach(size_t(E.rows), threads, [&](size_t row) {
+      double* m = ws.mags.ptr<double>(int(row));
+      for (int x = 0; x < E.cols; ++x) m[x] = magnitude(int(row), x);
+    }, 16);
+  }
+  for (int y = 0; y < E.rows; ++y) {
+    const float* a = ws.gx.ptr<float>(y);
+    const float* b = ws.gy.ptr<float>(y);
+    const double* mags = threads > 1 ? ws.mags.ptr<double>(y) : nullptr;
+    const float* e = E.ptr<float>(y);
+    for (int x = 0; x < E.cols; ++x) {
+      const double m = mags != nullptr ? mags[x] : std::sqrt(double(a[x]) * a[x] + double(b[x]) * b[x]);
+      *sum += m;
+      *edges += m > edge_threshold;
+      ++(*hist)[size_t(std::clamp(int(e[x] * 255.0f + 0.5f), 0, 255))];
+    }
+  }
+}
+
+}  // namespace
+
+double EnhancementFitness(const cv::Mat& E, double edge_threshold, int threads, FitnessTerms* terms,
+                          EnhanceWorkspace& ws) {
+  cv::Sobel(E, ws.gx, CV_32F, 1, 0, 3, 1, 0, cv::BORDER_REFLECT_101);
+  cv::Sobel(E, ws.gy, CV_32F, 0, 1, 3, 1, 0, cv::BORDER_REFLECT_101);
   double sum = 0;
   int64_t edges = 0;
   std::array<int64_t, 256> hist{};
-  for (int y = 0; y < E.rows; ++y) {
-    const double* m = mags.ptr<double>(y);
-    const float* e = E.ptr<float>(y);
-    for (int x = 0; x < E.cols; ++x) {
-      sum += m[x];
-      edges += m[x] > edge_threshold;
-      ++hist[size_t(std::clamp(int(e[x] * 255.0f + 0.5f), 0, 255))];
-    }
-  }
+  GradientSums(E, edge_threshold, threads, ws, &sum, &edges, &hist);
   if (terms != nullptr) *terms = FitnessTerms{sum, edges, int64_t(E.total()), 0.0};
   if (!(sum > std::exp(1.0)) || edges == 0) return -std::numeric_limits<double>::infinity();
   const double n = double(E.total());
@@ -114,26 +147,34 @@ double EnhancementFitness(const cv::Mat& E, double edge_threshold, int threads, 
   return std::log(std::log(sum)) * (double(edges) / n) * entropy;
 }
 
-EnhanceResult Enhance(const cv::Mat& grey8, const EnhanceParams& p, int threads) {
+double EnhancementFitness(const cv::Mat& E, double edge_threshold, int threads, FitnessTerms* terms) {
+  EnhanceWorkspace ws;
+  return EnhancementFitness(E, edge_threshold, threads, terms, ws);
+}
+
+EnhanceResult Enhance(const cv::Mat& grey8, const EnhanceParams& p, int threads, EnhanceBuffers& b) {
   EnhanceResult r;
   const StretchResult st = CdfStretch(grey8, p.s);
   r.lo = st.lo, r.hi = st.hi;
-  const cv::Mat full = LocalWeightedEnhance(st.stretched, p, threads);
-  r.fitness = EnhancementFitness(full, p.edge_threshold, threads, &r.fitness_terms);
+  LocalWeightedEnhance(st.stretched, p, threads, b.full, b.enhanced);
+  r.fitness = EnhancementFitness(b.enhanced, p.edge_threshold, threads, &r.fitness_terms, b.full);
   r.stretch = st;
   r.stretch.stretched = cv::Mat();
-  cv::Mat small, small_e, up;
-  cv::resize(st.stretched, small, cv::Size(), p.down, p.down, cv::INTER_AREA);
-  small_e = LocalWeightedEnhance(small, p, threads);
-  cv::resize(small_e, up, full.size(), 0, 0, cv::INTER_LINEAR);
-  const cv::Mat fused = p.w_ms * up + (1.0 - p.w_ms) * full;
-  cv::Mat fused8;
-  fused.convertTo(fused8, CV_8U, 255.0);
+  cv::resize(st.stretched, b.small, cv::Size(), p.down, p.down, cv::INTER_AREA);
+  LocalWeightedEnhance(b.small, p, threads, b.half, b.small_enhanced);
+  cv::resize(b.small_enhanced, b.up, b.enhanced.size(), 0, 0, cv::INTER_LINEAR);
+  b.fused = p.w_ms * b.up + (1.0 - p.w_ms) * b.enhanced;
+  b.fused.convertTo(b.fused8, CV_8U, 255.0);
   const cv::Ptr<cv::CLAHE> clahe = cv::createCLAHE(p.clahe_clip, cv::Size(p.clahe_tiles, p.clahe_tiles));
-  clahe->apply(fused8, r.grey8);
+  clahe->apply(b.fused8, r.grey8);
   r.mean_in = cv::mean(grey8)[0] / 255.0;
   r.mean_out = cv::mean(r.grey8)[0] / 255.0;
   return r;
+}
+
+EnhanceResult Enhance(const cv::Mat& grey8, const EnhanceParams& p, int threads) {
+  EnhanceBuffers b;
+  return Enhance(grey8, p, threads, b);
 }
 
 }  // namespace dynref::epi

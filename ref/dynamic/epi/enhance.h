@@ -37,12 +37,20 @@ struct StretchResult {
   // of the percentile rule; the value below the first grey level is 0).
   double cdf_lo_below = 0, cdf_lo = 0, cdf_hi_below = 0, cdf_hi = 0;
 };
+// Full-image buffers of c and d kept between calls: the same bytes as fresh ones, no full-image
+// allocation per call once sized (one workspace per image size).
+struct EnhanceWorkspace {
+  cv::Mat sq, mu, mu2;  // I^2 and the box means of I and I^2
+  cv::Mat gx, gy, mags; // Sobel and (threads > 1) the gradient magnitudes
+};
 // a + b on a CV_8U grey image.
 StretchResult CdfStretch(const cv::Mat& grey8, double s);
 // threads (the run's --threads, not a parameter): the per-pixel work of c and d runs in row chunks
 // side by side; sums stay in one fixed order, so the results are the same bytes for any count.
 // c on CV_32F [0, 1].
 cv::Mat LocalWeightedEnhance(const cv::Mat& stretched, const EnhanceParams& p, int threads = 1);
+void LocalWeightedEnhance(const cv::Mat& stretched, const EnhanceParams& p, int threads, EnhanceWorkspace& ws,
+                          cv::Mat& out);
 // The statistics the fitness consumes (traced by epi.enhance: the fitness is recomputed from them).
 struct FitnessTerms {
   double sobel_sum = 0;       // sum over pixels of |Sobel|
@@ -54,6 +62,8 @@ struct FitnessTerms {
 // `terms` (optional) receives the statistics (entropy 0 when the fitness is -inf).
 double EnhancementFitness(const cv::Mat& enhanced, double edge_threshold, int threads = 1,
                           FitnessTerms* terms = nullptr);
+double EnhancementFitness(const cv::Mat& enhanced, double edge_threshold, int threads, FitnessTerms* terms,
+                          EnhanceWorkspace& ws);
 
 struct EnhanceResult {
   cv::Mat grey8;              // CV_8U, what feature extraction sees
@@ -63,7 +73,13 @@ struct EnhanceResult {
   FitnessTerms fitness_terms; // of `fitness`
   double mean_in = 0, mean_out = 0;  // mean grey in [0, 1] before and after
 };
+// What Enhance keeps between frames of one size (SequenceEnhancer owns one).
+struct EnhanceBuffers {
+  EnhanceWorkspace full, half;                // c and d at full and at the down scale
+  cv::Mat enhanced, small, small_enhanced, up, fused, fused8;
+};
 // a-f on a CV_8U grey image.
 EnhanceResult Enhance(const cv::Mat& grey8, const EnhanceParams& p, int threads = 1);
+EnhanceResult Enhance(const cv::Mat& grey8, const EnhanceParams& p, int threads, EnhanceBuffers& buffers);
 
 }  // namespace dynref::epi

@@ -4,6 +4,7 @@
 // values that prove them, the fitness with the statistics it is computed from, the mean grey
 // before and after.
 #include "core/error.h"
+#include "dynamic/epi/enhance_terms.h"
 #include "dynamic/epi/stages.h"
 
 namespace dynref::epi {
@@ -47,11 +48,13 @@ EnhanceStageOptions EnhanceOptionsFromParams(const ParamMap& p) {
 
 BoaResult OptimiseEnhancement(const cv::Mat& grey8, const EnhanceStageOptions& o, EnhanceParams* params, Rng& rng,
                               int threads) {
-  const cv::Mat stretched = CdfStretch(grey8, params->s).stretched;
+  // Every evaluation enhances the same stretched image: its (alpha, p)-free terms once, buffers reused.
+  EnhanceTerms terms(CdfStretch(grey8, params->s).stretched, *params, threads);
+  EnhanceWorkspace ws;
+  cv::Mat enhanced;
   const Fitness fit = [&](const std::vector<double>& x) {
-    EnhanceParams q = *params;
-    q.alpha = x[0], q.p = x[1];
-    return EnhancementFitness(LocalWeightedEnhance(stretched, q, threads), q.edge_threshold, threads);
+    terms.Apply(x[0], x[1], enhanced, threads);
+    return EnhancementFitness(enhanced, params->edge_threshold, threads, nullptr, ws);
   };
   const BoaResult r = ButterflyOptimise(fit, {0.0, o.p_min}, {o.alpha_max, o.p_max}, o.boa, rng);
   params->alpha = r.best[0];
@@ -66,7 +69,7 @@ EnhanceResult SequenceEnhancer::Enhance(const cv::Mat& grey8, BoaResult* tuned, 
     if (tuned != nullptr) *tuned = r;
     tuned_ = true;
   }
-  return epi::Enhance(grey8, o_.params, threads);
+  return epi::Enhance(grey8, o_.params, threads, buffers_);
 }
 
 EnhanceStage::EnhanceStage(const ParamMap& p) : enhancer_(EnhanceOptionsFromParams(p)) {}

@@ -26,6 +26,7 @@
 #include "geometry/dynamic_mask.h"
 #include "geometry/lk_pairs.h"
 #include "geometry/rigid_ransac.h"
+#include "method/detection_tally.h"
 #include "method/map_module.h"
 #include "method/params.h"
 #include "method/stage.h"
@@ -60,6 +61,7 @@ class SequenceEnhancer {
   EnhanceStageOptions o_;
   Rng rng_;
   bool tuned_ = false;
+  EnhanceBuffers buffers_;  // full-image buffers kept from frame to frame
 };
 
 class EnhanceStage : public Stage {
@@ -91,6 +93,7 @@ class VoteStage : public Stage {
   std::string name() const override { return "epi.vote"; }
   Hook hook() const override { return Hook::kAfterExtraction; }
   void Run(StageContext& ctx) override;
+  void Finish(RunEnd& end) override { tally_.Report(end); }
 
  private:
   geometry::DynamicMaskOptions mask_;
@@ -99,6 +102,7 @@ class VoteStage : public Stage {
   MaskVoteOptions vote_;
   Rng rng_;
   std::shared_ptr<Blackboard> board_;
+  DetectionTally tally_;  // dynamic-class instances seen / dropped by min_confidence (issue 39)
 };
 
 class NerfModule : public MapModule {

@@ -9,6 +9,7 @@
 //   e. Keypoints of dynamic masks are excluded (matched or not); the rest are the static set.
 // Without a previous frame or a pose (too few static pairs) every mask is dynamic (E8).
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <utility>
@@ -20,8 +21,8 @@
 namespace dynref::epi {
 
 VoteStage::VoteStage(const ParamMap& p, std::shared_ptr<Blackboard> board)
-    : rng_(uint64_t(p.GetInt("ransac_seed")), "epi.pose"), board_(std::move(board)) {
-  p.RequireKnownKeys({"dynamic_classes", "min_confidence", "epi_threshold_px", "vote_ratio", "lk_window_px",
+    : rng_(uint64_t(p.GetInt("ransac_seed")), "epi.pose"), board_(std::move(board)), tally_(name(), p) {
+  p.RequireKnownKeys({"dynamic_classes", "min_confidence", "threshold_scale", "epi_threshold_px", "vote_ratio", "lk_window_px",
                       "lk_max_level", "border_px", "patch_sad_max", "pose_inlier_px", "pose_iterations",
                       "pose_min_inliers", "ransac_seed"});
   mask_.dynamic_class_ids = p.GetCocoClassIds("dynamic_classes");
@@ -53,7 +54,14 @@ void VoteStage::Run(StageContext& ctx) {
   const Camera& cam = ctx.camera;
   trace::TraceWriter& tr = ctx.trace;
   const std::string fid = "f" + std::to_string(f.index);
-  const geometry::DynamicMask m = geometry::BuildDynamicMask(*f.detections, cam.width, cam.height, mask_);
+  // min_confidence is the paper's threshold for its detector, mapped to this source (issue 39).
+  geometry::DynamicMaskOptions frame_mask = mask_;
+  frame_mask.min_confidence = tally_.Threshold(*f.detections);
+  for (const DetectedInstance& inst : f.detections->instances)
+    if (std::find(mask_.dynamic_class_ids.begin(), mask_.dynamic_class_ids.end(), inst.class_id) !=
+        mask_.dynamic_class_ids.end())
+      tally_.Count(inst.confidence < frame_mask.min_confidence);
+  const geometry::DynamicMask m = geometry::BuildDynamicMask(*f.detections, cam.width, cam.height, frame_mask);
 
   std::vector<int> candidates;  // non-excluded keypoints
   for (int i = 0; i < int(f.N()); ++i)

@@ -4,6 +4,7 @@
 #include <map>
 
 #include "core/parallel.h"
+#include "dynamic/mgd/neighbour_grid.h"
 #include "features/descriptor.h"
 
 namespace dynref::mgd {
@@ -19,6 +20,11 @@ std::vector<Correspondence> MatchPrevious(const Frame& cur, const Frame& prev, d
   for (size_t j = 0; j < prev.N(); ++j)
     if (prev.map_point_ids[j] >= 0 && !prev.outlier[j]) prev_of_point.emplace(prev.map_point_ids[j], static_cast<int>(j));
   const double r2 = radius_px * radius_px;
+  // The window's candidates from pixel cells a bit larger than the radius (NeighbourGrid: a
+  // superset in ascending j; the test below is the scan's), every j when a key is not finite.
+  std::vector<Eigen::Vector3d> prev_keys(prev.N());
+  for (size_t j = 0; j < prev.N(); ++j) prev_keys[j] = {prev.keys_un[j].pt.x, prev.keys_un[j].pt.y, 0.0};
+  const NeighbourGrid grid(prev_keys, std::vector<bool>(prev.N(), true), radius_px * 1.01 + 1.0);
   std::vector<Correspondence> out(cur.N());
   ParallelForEach(cur.N(), threads, [&](size_t i) {
     const int fi = static_cast<int>(i);
@@ -34,7 +40,13 @@ std::vector<Correspondence> MatchPrevious(const Frame& cur, const Frame& prev, d
     const cv::Point2f& p = cur.keys_un[i].pt;
     float best = std::numeric_limits<float>::infinity();
     int best_j = -1;
-    for (size_t j = 0; j < prev.N(); ++j) {
+    std::vector<uint32_t> near;
+    const Eigen::Vector3d key(p.x, p.y, 0.0);
+    const bool use_grid = grid.all_finite() && grid.Covers(key);
+    if (use_grid) grid.Near(key, &near);
+    const size_t m = use_grid ? near.size() : prev.N();
+    for (size_t k = 0; k < m; ++k) {  // ascending j: ties keep the lowest index
+      const size_t j = use_grid ? near[k] : k;
       const cv::Point2f& q = prev.keys_un[j].pt;
       const double du = p.x - q.x, dv = p.y - q.y;
       if (du * du + dv * dv > r2) continue;

@@ -19,7 +19,8 @@ enum class WeightForm { kOneMinusP /* w = 1 - P (proposed) */, kNone /* w = 1 */
 
 struct MgdOptions {
   // Box flags (Sec. 3.3).
-  double min_confidence = 0.5;                 // paper 0.5
+  double min_confidence = 0.5;                 // paper 0.5 (for its YOLO; issue 39: mapped to the source)
+  std::string threshold_scale = "detector";    // "detector": calibrated to the source; "raw": 0.5 as is
   std::vector<int> dynamic_class_ids = {0, 24, 56, 26, 28};  // person, backpack, chair, handbag, suitcase (spec (c))
   bool initial_pose_out_of_box = true;         // spec E10: initial pose from out-of-box matches only (weight 0 in boxes)
   // Temporal inheritance (Sec. 3.4).

@@ -5,12 +5,15 @@
 #include <stdexcept>
 
 #include "core/parallel.h"
+#include "dynamic/mgd/neighbour_grid.h"
 
 namespace dynref::mgd {
 
 void MgdOptions::Check() const {
   auto in01 = [](double v) { return v >= 0 && v <= 1; };
   if (!in01(min_confidence)) throw std::invalid_argument("min_confidence must be in [0, 1]");
+  if (threshold_scale != "detector" && threshold_scale != "raw")
+    throw std::invalid_argument("threshold_scale must be 'detector' or 'raw'");
   if (!in01(p_init_box) || !in01(p_init_free)) throw std::invalid_argument("p_init must be in [0, 1]");
   if (!in01(delta)) throw std::invalid_argument("delta must be in [0, 1]");
   if (!(match_radius_px > 0)) throw std::invalid_argument("match_radius_px must be > 0");
@@ -82,11 +85,18 @@ std::vector<double> Diffuse(const std::vector<Eigen::Vector3d>& points, const st
   std::vector<double> out = p;
   if (neighbours) neighbours->assign(n, 0);
   const double r2 = radius_m * radius_m;
+  // Candidates from cells a bit larger than r (NeighbourGrid: a superset of the nodes within r, in
+  // ascending j), or every j when a point is not finite; the test and the sums are the scan's.
+  const NeighbourGrid grid(points, has_point, radius_m * 1.01);
   ParallelForEach(n, threads, [&](size_t i) {
     if (!has_point[i]) return;
+    std::vector<uint32_t> near;
+    if (grid.all_finite()) grid.Near(points[i], &near);
+    const size_t m = grid.all_finite() ? near.size() : n;
     double sum_w = 0, sum_wp = 0;
     int count = 0;
-    for (size_t j = 0; j < n; ++j) {  // ascending j: a fixed summation order
+    for (size_t k = 0; k < m; ++k) {  // ascending j: a fixed summation order
+      const size_t j = grid.all_finite() ? near[k] : k;
       if (j == i || !has_point[j]) continue;
       const double d2 = (points[i] - points[j]).squaredNorm();
       if (d2 > r2) continue;

@@ -3,19 +3,21 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "dynamic/mgd/read_options.h"
 #include "dynamic/mgd/stages.h"
 #include "io/coco_classes.h"
 
 namespace dynref::mgd {
 
 MgdOptions ReadOptions(const ParamMap& p) {
-  p.RequireKnownKeys({"min_confidence", "dynamic_classes", "initial_pose_out_of_box", "p_init_box", "p_init_free",
+  p.RequireKnownKeys({"min_confidence", "threshold_scale", "dynamic_classes", "initial_pose_out_of_box", "p_init_box", "p_init_free",
                       "delta", "match_radius_px", "use_ls", "use_pro", "use_mf", "d_th_ls_px", "theta_th_ls_rad",
                       "a_ls", "angle_form", "min_velocity_px", "d_th_pro_px", "a_pro", "d_th_mf_px", "a_mf", "w_ls",
                       "w_pro", "w_mf", "a", "smoothing", "diffusion", "radius_m", "tau_dyn", "weight", "line_cue_form",
                       "line_match_angle_deg", "line_match_radius_px", "line_match_bits"});
   MgdOptions o;
   o.min_confidence = p.GetDouble("min_confidence");
+  o.threshold_scale = p.GetString("threshold_scale");
   o.dynamic_class_ids = p.GetCocoClassIds("dynamic_classes");
   o.initial_pose_out_of_box = p.GetBool("initial_pose_out_of_box");
   o.p_init_box = p.GetDouble("p_init_box");
@@ -72,3 +74,29 @@ const MgdOptions& RequireOptions(const MgdState& state, const std::string& stage
 }
 
 }  // namespace dynref::mgd
+
+namespace dynref {
+
+// Ranges (issue 37): thresholds and radii > 0 (a negative one silently disabled its cue),
+// probabilities, weights and smoothing factors in [0, 1], every value finite.
+void RegisterMgdParams(MethodRegistry& registry) {
+  registry.AddParams(
+      "mgd.probability",
+      {{Real("min_confidence", 0, 1), Choice("threshold_scale", {"detector", "raw"}), Names("dynamic_classes"), Flag("initial_pose_out_of_box"), Real("p_init_box", 0, 1),
+        Real("p_init_free", 0, 1), Real("delta", 0, 1), RealAbove("match_radius_px", 0, 1000), Flag("use_ls"),
+        Flag("use_pro"), Flag("use_mf"), RealAbove("d_th_ls_px", 0, 1000), RealAbove("theta_th_ls_rad", 0, 3.2),
+        Real("a_ls", 0, 1), Choice("angle_form", {"angle_to_mean", "literal_arctan"}), Real("min_velocity_px", 0, 1000),
+        RealAbove("d_th_pro_px", 0, 1000), RealAbove("a_pro", 0, 1000), RealAbove("d_th_mf_px", 0, 1000),
+        RealAbove("a_mf", 0, 1000), Real("w_ls", 0, 10), Real("w_pro", 0, 10), Real("w_mf", 0, 10), Real("a", 0, 1),
+        Choice("smoothing", {"new_evidence", "old_evidence"}), Flag("diffusion"), RealAbove("radius_m", 0, 10),
+        Real("tau_dyn", 0, 1), Choice("weight", {"one_minus_p", "none"}),
+        Choice("line_cue_form", {"pseudo_point", "normal"}), BelowHi(RealAbove("line_match_angle_deg", 0, 90)),
+        RealAbove("line_match_radius_px", 0, 1000), Integer("line_match_bits", 0, 256)}});
+  registry.AddParams("mgd.boxes", {});       // its options live in mgd.probability
+  registry.AddParams("mgd.reprojection", {});
+  registry.AddRequirement("mgd.boxes", "mgd.probability");
+  registry.AddRequirement("mgd.reprojection", "mgd.probability");
+  registry.AddRequirement("mgd.probability", "mgd.boxes");
+}
+
+}  // namespace dynref

@@ -14,8 +14,10 @@ namespace dynref::mgd {
 
 bool InKeptBox(const FrameDetections* det, const MgdOptions& o, float u, float v) {
   if (det == nullptr) return false;
+  const double threshold =
+      detect::StageThreshold(o.min_confidence, detect::ParseThresholdScale(o.threshold_scale), det->source);
   for (const DetectedInstance& inst : det->instances) {
-    if (inst.confidence <= o.min_confidence) continue;
+    if (inst.confidence <= threshold) continue;
     if (std::find(o.dynamic_class_ids.begin(), o.dynamic_class_ids.end(), inst.class_id) == o.dynamic_class_ids.end())
       continue;
     if (u >= inst.x_min && u <= inst.x_max && v >= inst.y_min && v <= inst.y_max) return true;
@@ -30,6 +32,14 @@ void BoxStage::Run(StageContext& ctx) {
   s.frame = f.index;
   s.stamp = f.stamp_text;
   s.in_box.assign(f.N(), 0);
+  if (!tally_) tally_ = std::make_unique<DetectionTally>("mgd.boxes", "mgd.probability.min_confidence", o.min_confidence,
+                                                         o.threshold_scale);
+  if (f.detections != nullptr) {
+    const double threshold = tally_->Threshold(*f.detections);
+    for (const DetectedInstance& inst : f.detections->instances)
+      if (std::find(o.dynamic_class_ids.begin(), o.dynamic_class_ids.end(), inst.class_id) != o.dynamic_class_ids.end())
+        tally_->Count(inst.confidence <= threshold);
+  }
   int64_t in_box = 0;
   for (size_t i = 0; i < f.N(); ++i) {
     s.in_box[i] = InKeptBox(f.detections, o, f.keys[i].pt.x, f.keys[i].pt.y) ? 1 : 0;
@@ -84,6 +94,10 @@ void BoxStage::Run(StageContext& ctx) {
                                       0.0, 0.0);
       }
   }
+}
+
+void BoxStage::Finish(RunEnd& end) {
+  if (tally_) tally_->Report(end);
 }
 
 }  // namespace dynref::mgd

@@ -6,6 +6,7 @@
 
 #include "dynamic/mgd/options.h"
 #include "dynamic/mgd/state.h"
+#include "method/detection_tally.h"
 #include "method/params.h"
 #include "method/stage.h"
 
@@ -17,6 +18,7 @@ MgdOptions ReadOptions(const ParamMap& p);
 const MgdOptions& RequireOptions(const MgdState& state, const std::string& stage);
 
 // Flag_d (Sec. 3.3): (u, v) inside a box with confidence > min_confidence of a dynamic class.
+// The confidence is compared with min_confidence mapped to det->source (threshold_scale, issue 39).
 bool InKeptBox(const FrameDetections* det, const MgdOptions& o, float u, float v);
 
 class BoxStage : public Stage {
@@ -25,9 +27,11 @@ class BoxStage : public Stage {
   std::string name() const override { return "mgd.boxes"; }
   Hook hook() const override { return Hook::kBeforeInitialPose; }
   void Run(StageContext& ctx) override;
+  void Finish(RunEnd& end) override;  // dynamic-class boxes seen / dropped by min_confidence
 
  private:
   std::shared_ptr<MgdState> state_;
+  std::unique_ptr<DetectionTally> tally_;  // from mgd.probability's options at the first frame
 };
 
 class ProbabilityStage : public Stage {

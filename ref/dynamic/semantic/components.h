@@ -11,6 +11,7 @@
 #include "io/mask_format.h"
 #include "dense/occupancy_grid.h"
 #include "geometry/dynamic_mask.h"
+#include "method/detection_tally.h"
 #include "method/map_module.h"
 #include "method/params.h"
 #include "method/stage.h"
@@ -60,10 +61,12 @@ class MaskStage : public Stage {
   std::string name() const override { return "semantic.mask"; }
   Hook hook() const override { return Hook::kAfterExtraction; }
   void Run(StageContext& ctx) override;
+  void Finish(RunEnd& end) override { tally_.Report(end); }
 
  private:
   MaskOptions o_;
   std::shared_ptr<Board> board_;
+  DetectionTally tally_;  // prior-dynamic instances seen / dropped by min_confidence (issue 39)
 };
 
 struct MapOptions {

@@ -21,7 +21,7 @@ void MaskOptions::Check() const {
 }
 
 MaskOptions MaskOptionsFromParams(const ParamMap& p) {
-  p.RequireKnownKeys({"prior_dynamic_classes", "min_confidence", "d_max_px", "t_int_m", "interaction",
+  p.RequireKnownKeys({"prior_dynamic_classes", "min_confidence", "threshold_scale", "d_max_px", "t_int_m", "interaction",
                       "dilation_kernel_px", "reject_keypoints"});
   MaskOptions o;
   for (int id : p.GetCocoClassIds("prior_dynamic_classes")) o.prior_dynamic_class_ids.insert(id);
@@ -40,7 +40,7 @@ MaskOptions MaskOptionsFromParams(const ParamMap& p) {
 }
 
 MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Board> board)
-    : o_(MaskOptionsFromParams(p)), board_(std::move(board)) {}
+    : o_(MaskOptionsFromParams(p)), board_(std::move(board)), tally_(name(), p) {}
 
 InstanceClasses ClassifyInstances(const FrameDetections& det, const cv::Mat& depth_m, const MaskOptions& o) {
   InstanceClasses c;
@@ -69,7 +69,12 @@ void MaskStage::Run(StageContext& ctx) {
     throw InputError("--detections", "semantic.mask needs instance masks for frame " + f.stamp_text + " (run with --detections DIR)");
   const FrameDetections& det = *f.detections;
   trace::TraceWriter& tr = ctx.trace;
-  const InstanceClasses classes = ClassifyInstances(det, f.depth_m, o_);
+  // min_confidence is the paper's threshold for its detector, mapped to this source (issue 39).
+  MaskOptions frame_options = o_;
+  frame_options.min_confidence = tally_.Threshold(det);
+  for (const DetectedInstance& inst : det.instances)
+    if (o_.prior_dynamic_class_ids.count(inst.class_id)) tally_.Count(inst.confidence < frame_options.min_confidence);
+  const InstanceClasses classes = ClassifyInstances(det, f.depth_m, frame_options);
   for (const InstanceClasses::Test& t : classes.tests) {
     const InteractionResult& r = t.result;
     const std::string id = "i" + std::to_string(f.index) + "." + std::to_string(t.b);
@@ -91,7 +96,7 @@ void MaskStage::Run(StageContext& ctx) {
     // class and confidence, for every detected instance; p(dynamic) 1 for an instance of M_dyn.
     if (tr.full_enabled())
       tr.ProbabilityUpdate(name(), trace::EntityKind::kInstanceMask, id,
-                           {{"class_id", static_cast<double>(inst.class_id)}, {"confidence", inst.confidence}}, 0.0,
+                           tally_.InstanceInputs(inst), 0.0,
                            dyn ? 1.0 : 0.0);
     if (!dyn && !static_ids.count(inst.id)) continue;
     tr.Decision(name(), trace::EntityKind::kInstanceMask, id,

@@ -1,10 +1,12 @@
 #include "dynamic/sgdo/register.h"
+#include "dynamic/sgdo/read_options.h"
 
 #include "dynamic/sgdo/stages.h"
 
 namespace dynref {
 
 void RegisterSgdoMethod(MethodRegistry& registry) {
+  RegisterSgdoParams(registry);  // keys and ranges, checked before any component is built
   // The components of one run share the current frame's mask through the run's SharedState.
   registry.AddStage("sgdo.mask", [](const ParamMap& p, SharedState& shared) -> std::unique_ptr<Stage> {
     return std::make_unique<sgdo::MaskStage>(p, shared.Get<sgdo::Blackboard>(sgdo::kBoardKey));

@@ -16,8 +16,9 @@ const FrameDetections& RequireDetections(const Frame& frame, const std::string& 
   return *frame.detections;
 }
 
-MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Blackboard> board) : board_(std::move(board)) {
-  p.RequireKnownKeys({"dynamic_classes", "min_confidence", "dilation_kernel_px", "reject_in_mask"});
+MaskStage::MaskStage(const ParamMap& p, std::shared_ptr<Blackboard> board)
+    : board_(std::move(board)), tally_(name(), p) {
+  p.RequireKnownKeys({"dynamic_classes", "min_confidence", "threshold_scale", "dilation_kernel_px", "reject_in_mask"});
   options_.dynamic_class_ids = p.GetCocoClassIds("dynamic_classes");
   options_.min_confidence = p.GetDouble("min_confidence");
   options_.dilation_kernel_px = static_cast<int>(p.GetInt("dilation_kernel_px"));
@@ -34,9 +35,16 @@ void MaskStage::Run(StageContext& ctx) {
   const FrameDetections& det = RequireDetections(f, name());
   board_->frame_index = f.index;
   board_->stamp_text = f.stamp_text;
-  board_->mask_options = options_;
-  board_->mask = BuildDynamicMask(det, ctx.camera.width, ctx.camera.height, options_);
-  board_->static_labels = StaticClassLabels(det, ctx.camera.width, ctx.camera.height, options_);
+  // min_confidence is the paper's threshold for its detector, mapped to this source (issue 39).
+  DynamicMaskOptions frame_options = options_;
+  frame_options.min_confidence = tally_.Threshold(det);
+  for (const DetectedInstance& inst : det.instances)
+    if (std::find(options_.dynamic_class_ids.begin(), options_.dynamic_class_ids.end(), inst.class_id) !=
+        options_.dynamic_class_ids.end())
+      tally_.Count(inst.confidence < frame_options.min_confidence);
+  board_->mask_options = frame_options;
+  board_->mask = BuildDynamicMask(det, ctx.camera.width, ctx.camera.height, frame_options);
+  board_->static_labels = StaticClassLabels(det, ctx.camera.width, ctx.camera.height, frame_options);
   const DynamicMask& m = board_->mask;
 
   trace::TraceWriter& tr = ctx.trace;
@@ -47,11 +55,11 @@ void MaskStage::Run(StageContext& ctx) {
     // class and confidence; p(dynamic) 1 for an instance of M.
     if (tr.full_enabled())
       tr.ProbabilityUpdate(name(), trace::EntityKind::kInstanceMask, id,
-                           {{"class_id", static_cast<double>(inst.class_id)}, {"confidence", inst.confidence}}, 0.0,
+                           tally_.InstanceInputs(inst), 0.0,
                            dynamic ? 1.0 : 0.0);
     tr.Decision(name(), trace::EntityKind::kInstanceMask, id, !dynamic,
                 dynamic ? "prior-dynamic:" + inst.class_name
-                        : (inst.confidence < options_.min_confidence ? "low-confidence" : "static-class"));
+                        : (inst.confidence < frame_options.min_confidence ? "low-confidence" : "static-class"));
   }
   tr.FrameCount(name(), "instances", static_cast<int64_t>(det.instances.size()));
   tr.FrameCount(name(), "dynamic_instances", static_cast<int64_t>(m.instance_ids.size()));

@@ -13,6 +13,7 @@
 #include "dynamic/sgdo/stage_common.h"
 #include "geometry/fundamental.h"
 #include "geometry/lk_pairs.h"
+#include "method/detection_tally.h"
 #include "method/map_module.h"
 
 namespace dynref::sgdo {
@@ -23,11 +24,13 @@ class MaskStage : public Stage {
   std::string name() const override { return "sgdo.mask"; }
   Hook hook() const override { return Hook::kAfterExtraction; }
   void Run(StageContext& ctx) override;
+  void Finish(RunEnd& end) override { tally_.Report(end); }
 
  private:
   std::shared_ptr<Blackboard> board_;
   DynamicMaskOptions options_;
   bool reject_in_mask_ = false;
+  DetectionTally tally_;  // dynamic-class instances seen / dropped by min_confidence (issue 39)
 };
 
 class CoarseStage : public Stage {

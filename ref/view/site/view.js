@@ -4,7 +4,9 @@
 // history of an entity lists the same records as `dynref trace feature`.
 'use strict';
 
-const S = { runs: [], run: 0, summary: {}, frames: {}, frameIndex: 0, entity: '', scripts: {}, shapes: { features: [], lines: [] } };
+const S = { runs: [], run: 0, summary: {}, packed: {}, links: {}, graphs: {}, frameIndex: 0, entity: '', scripts: {},
+  cache: new Map(), showToken: 0, shapes: { features: [], lines: [] } };
+const CACHE_FRAMES = 24;  // decoded frames kept (the page stays small on long runs)
 const CARRIER = (stage) => stage === 'structure' || stage.startsWith('match.');
 const STAGE_COLOURS = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2', '#7f7f7f',
   '#bcbd22', '#17becf', '#393b79', '#637939', '#8c6d31', '#843c39', '#7b4173'];
@@ -13,25 +15,63 @@ const $ = (id) => document.getElementById(id);
 const VIEW = {
   runs(list) { S.runs = list; start(); },
   summary(k, s) { S.summary[k] = s; },
-  frame(k, f, d) { (S.frames[k] = S.frames[k] || {})[f] = d; },
+  frameZ(k, f, head, packed) { S.packed[`${k}/${f}`] = { head, packed }; },
+  linksZ(k, packed) { S.links[k] = packed; },
 };
 
-function loadScript(src) {
-  if (!S.scripts[src]) {
-    S.scripts[src] = new Promise((resolve, reject) => {
-      const el = document.createElement('script');
-      el.src = src;
-      el.onload = () => resolve();
-      el.onerror = () => reject(new Error('cannot load ' + src));
-      document.body.appendChild(el);
-    });
-  }
-  return S.scripts[src];
+// Adds <script src> once (`keep`) or each time (frame files: their data are dropped once decoded).
+function loadScript(src, keep = true) {
+  if (keep && S.scripts[src]) return S.scripts[src];
+  const p = new Promise((resolve, reject) => {
+    const el = document.createElement('script');
+    el.src = src;
+    el.onload = () => { if (!keep) el.remove(); resolve(); };
+    el.onerror = () => reject(new Error('cannot load ' + src));
+    document.body.appendChild(el);
+  });
+  if (keep) S.scripts[src] = p;
+  return p;
 }
 async function summaryOf(k) { await loadScript(`data/r${k}/summary.js`); return S.summary[k]; }
-async function frameOf(k, f) {
-  await loadScript(`data/r${k}/f${f}.js`);
-  return S.frames[k][f];
+
+// A packed data string (ref/view/packed.h: zlib, base64) as JSON.
+async function inflate(b64) {
+  const bin = atob(b64);
+  const bytes = new Uint8Array(bin.length);
+  for (let i = 0; i < bin.length; ++i) bytes[i] = bin.charCodeAt(i);
+  const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('deflate'));
+  return JSON.parse(await new Response(stream).text());
+}
+// Columns (order + per-schema columns) back to rows [schema, entity, occurrence, values...].
+function unpack(p) {
+  const next = {};
+  return p.order.map((sid) => {
+    const c = p.cols[sid];
+    const j = (next[sid] = next[sid] === undefined ? 0 : next[sid] + 1);
+    const row = [sid, c[0][j], c[1][j]];
+    for (let f = 2; f < c.length; ++f) row.push(c[f][j]);
+    return row;
+  });
+}
+// A frame's data {frame, stamp, image, records}; the last CACHE_FRAMES frames stay decoded.
+function frameOf(k, f) {
+  const key = `${k}/${f}`;
+  let p = S.cache.get(key);
+  if (p) {
+    S.cache.delete(key);
+  } else {
+    p = (async () => {
+      await loadScript(`data/r${k}/f${f}.js`, false);
+      const z = S.packed[key];
+      delete S.packed[key];
+      if (!z) return undefined;
+      return { ...z.head, records: unpack(await inflate(z.packed)) };
+    })();
+    p.catch(() => S.cache.delete(key));
+  }
+  S.cache.set(key, p);
+  while (S.cache.size > CACHE_FRAMES) S.cache.delete(S.cache.keys().next().value);
+  return p;
 }
 
 // A stored row [schema, entity, occurrence, values...] as a record.
@@ -49,10 +89,17 @@ const baseId = (entity) => entity.split('@')[0];
 const perFrame = (id) => /^(f|i|l|pl|r)\d+\.\d+$/.test(id);
 const frameOfId = (id) => Number(id.replace(/^[a-z]+/, '').split('.')[0]);
 
+// Frames whose groups hold records of `id` (its own frame, and the summary's links).
+function framesOf(summary, id) {
+  const set = new Set(summary.links[id] || []);
+  if (perFrame(id)) set.add(frameOfId(id));
+  return [...set].sort((a, b) => a - b);
+}
+
 // The records `dynref trace feature RUN ID` lists (README "Feature history").
 async function plainHistory(k, id) {
   const summary = await summaryOf(k);
-  const frames = perFrame(id) ? [frameOfId(id)] : (summary.links[id] || []);
+  const frames = framesOf(summary, id);
   const m = /^(mp|ml|mpl)(\d+)$/.exec(id);
   const rows = [];
   for (const f of frames) {
@@ -77,6 +124,140 @@ async function plainHistory(k, id) {
     }
   }
   return { id, rows };
+}
+
+// "f20.2" -> {prefix f, frame 20, index 2, perFrame}; "mp34" -> {prefix mp, frame -1, index 34}
+// (as ref/trace/trace_follow.cpp ParseId).
+function parseId(id) {
+  let k = 0;
+  while (k < id.length && id[k] >= 'a' && id[k] <= 'z') ++k;
+  const p = { prefix: id.slice(0, k), frame: -1, index: -1, perFrame: false };
+  const dot = id.indexOf('.', k);
+  if (dot < 0) {
+    const v = parseInt(id.slice(k), 10);
+    if (!Number.isNaN(v)) p.index = v;
+    return p;
+  }
+  p.perFrame = true;
+  const f = parseInt(id.slice(k, dot), 10);
+  if (Number.isNaN(f)) return p;
+  p.frame = f;
+  const i = parseInt(id.slice(dot + 1), 10);
+  if (!Number.isNaN(i)) p.index = i;
+  return p;
+}
+const byText = (a, b) => (a < b ? -1 : a > b ? 1 : 0);
+
+// The run's link graph (data/r<k>/links.js: the links `trace feature --follow` searches).
+async function graphOf(k) {
+  if (S.graphs[k]) return S.graphs[k];
+  await loadScript(`data/r${k}/links.js`);
+  const data = await inflate(S.links[k]);
+  const adj = new Map(), instances = new Map();
+  const add = (a, b, via) => {
+    if (!adj.has(a)) adj.set(a, new Map());
+    if (!adj.get(a).has(b)) adj.get(a).set(b, via);
+  };
+  for (let i = 0; i < data.links.length; i += 3) {
+    const via = data.via[data.links[i + 2]];
+    add(data.links[i], data.links[i + 1], via);
+    add(data.links[i + 1], data.links[i], via);
+  }
+  for (const m of data.masks) {
+    const inst = parseId(m).index;
+    if (!instances.has(inst)) instances.set(inst, []);
+    instances.get(inst).push(m);
+  }
+  for (const list of instances.values()) list.sort(byText);
+  const sorted = new Map();
+  const neighbours = (e) => {  // [entity, via] by entity (std::map order)
+    if (!sorted.has(e)) sorted.set(e, adj.has(e) ? [...adj.get(e)].sort((a, b) => byText(a[0], b[0])) : null);
+    return sorted.get(e);
+  };
+  S.graphs[k] = { neighbours, instances };
+  delete S.links[k];
+  return S.graphs[k];
+}
+
+// The chain of `start` (README "Following a feature"; the breadth-first search of
+// trace_follow.cpp LinkGraph::Closure, step for step): [{entity, frame, via, from}] with
+// per-frame entities by (frame, prefix, index), then landmarks.
+function closure(graph, start) {
+  const BACK = 1, FORWARD = 2, BOTH = 3;
+  const seen = new Map(), expanded = new Map(), landmarksDone = new Set(), queue = [];
+  const visit = (e, dir, via, from) => {
+    if (!seen.has(e)) {
+      const p = parseId(e);
+      seen.set(e, { entity: e, frame: p.perFrame ? p.frame : -1, via, from });
+    }
+    const done = expanded.get(e) || 0;
+    expanded.set(e, done);
+    if ((done | dir) === done) return;
+    expanded.set(e, done | dir);
+    queue.push([e, dir]);
+  };
+  const towards = (from, to, dir) => (to < from ? BACK : to > from ? FORWARD : dir);
+  visit(start, BOTH, 'start', '');
+  for (let qi = 0; qi < queue.length; ++qi) {
+    const [e, dir] = queue[qi];
+    const p = parseId(e);
+    const next = graph.neighbours(e);
+    if (!p.perFrame) {
+      landmarksDone.add(e);
+      if (next) for (const [n, via] of next) visit(n, BOTH, via, e);
+      continue;
+    }
+    if (next) {
+      for (const [n, via] of next) {
+        const q = parseId(n);
+        if (q.perFrame) {
+          const d = towards(p.frame, q.frame, dir);
+          if (d & dir) visit(n, d, via, e);
+          continue;
+        }
+        visit(n, 0, via, e);
+        if (landmarksDone.has(n)) continue;
+        landmarksDone.add(n);
+        const lm = graph.neighbours(n);
+        if (lm) {
+          for (const [other, via2] of lm) {
+            const r = parseId(other);
+            if (r.perFrame) visit(other, towards(p.frame, r.frame, dir), via2, n);
+          }
+        }
+      }
+    }
+    if (p.prefix === 'i' && graph.instances.has(p.index))
+      for (const n of graph.instances.get(p.index)) visit(n, BOTH, 'instance id', e);
+  }
+  const key = (c) => { const p = parseId(c.entity); return [p.perFrame ? 0 : 1, p.frame, p.prefix, p.index, c.entity]; };
+  const cmp = (a, b) => {
+    const x = key(a), y = key(b);
+    for (let i = 0; i < x.length; ++i) if (x[i] !== y[i]) return x[i] < y[i] ? -1 : 1;
+    return 0;
+  };
+  return [...seen.values()].sort(cmp);
+}
+
+// `dynref trace feature RUN ID --follow`: every record (counts aside) of every chain entity and
+// its residuals, frames ascending, file order within a frame.
+async function followHistory(k, id) {
+  const summary = await summaryOf(k);
+  const chain = closure(await graphOf(k), baseId(id));
+  const members = new Set(chain.map((c) => c.entity));
+  const frames = new Set();
+  for (const c of chain) for (const f of framesOf(summary, c.entity)) frames.add(f);
+  const rows = [];
+  for (const f of [...frames].sort((a, b) => a - b)) {
+    const data = await frameOf(k, f);
+    if (!data) continue;
+    for (const row of data.records) {
+      if (!members.has(baseId(row[1]))) continue;
+      const r = decode(summary, row);
+      if (r.type !== 'count') rows.push({ frame: f, ...r });
+    }
+  }
+  return { id, rows, chain };
 }
 
 function formatValue(v) { return typeof v === 'number' ? String(v) : v; }
@@ -149,9 +330,11 @@ function divergenceOf(k) {
 function renderHistory(history) {
   const rejected = history.rows.filter((r) => r.type === 'decision' && field(r, 'kept') === '0').length;
   const frames = new Set(history.rows.map((r) => r.frame));
-  $('history-title').textContent = `${history.id}: ` +
-    `${history.rows.length} records over ${frames.size} frames, ${rejected} rejections`;
+  $('history-title').textContent = `${history.id}${history.chain ? ` followed (${history.chain.length} entities)` : ''}: ` +
+    `${history.rows.length} records over ${frames.size} frames, ${rejected} rejections` +
+    (S.summary[S.run].digits < 17 ? ` (numbers to ${S.summary[S.run].digits} significant digits)` : '');
   drawPlot(history);
+  renderChain(history.chain);
   const div = divergenceOf(S.run);
   const table = document.createElement('table');
   table.innerHTML = '<tr><th>frame</th><th>type</th><th>stage</th><th>entity</th><th>before &rarr; after</th><th>fields</th></tr>';
@@ -180,16 +363,39 @@ function renderHistory(history) {
   });
 }
 
+// The chain of a followed entity: one link per entity (frame, entity, link, reached from).
+function renderChain(chain) {
+  const box = $('chain');
+  box.innerHTML = '';
+  box.hidden = !chain;
+  if (!chain) return;
+  const summary = document.createElement('summary');
+  summary.textContent = `chain: ${chain.length} entities (frame -> entity, link, from)`;
+  box.appendChild(summary);
+  for (const c of chain) {
+    const line = document.createElement('div');
+    const a = document.createElement('a');
+    a.href = '#';
+    a.textContent = c.entity;
+    a.onclick = (e) => { e.preventDefault(); showEntity(c.entity); };
+    line.append(`${c.frame >= 0 ? c.frame : '-'} -> `, a, ` (${c.via}${c.from ? ', from ' + c.from : ''})`);
+    box.appendChild(line);
+  }
+}
+
 async function showEntity(id) {
   $('entity').value = id;
   S.entity = id;
-  const history = await plainHistory(S.run, id);
+  const follow = $('follow').checked;
+  const history = follow ? await followHistory(S.run, id) : await plainHistory(S.run, id);
+  if (S.entity !== id) return history;  // another entity was asked for meanwhile
   renderHistory(history);
   const params = new URLSearchParams(location.search);
   if (params.get('selftest') === '1') {
     const out = history.rows.map((r) => [r.frame, r.type, r.stage, r.kind, r.entity, r.occurrence,
       Object.fromEntries(r.fields)]);
-    $('selftest').textContent = JSON.stringify({ entity: id, rows: out });
+    const chain = history.chain ? history.chain.map((c) => [c.frame, c.entity, c.via, c.from]) : null;
+    $('selftest').textContent = JSON.stringify({ entity: id, follow, chain, rows: out });
     document.title = 'selftest-done';
   }
   return history;
@@ -260,7 +466,9 @@ async function showFrame(index) {
   const frame = summary.frames[index];
   $('slider').value = index;
   $('frame-number').value = frame;
+  const token = ++S.showToken;
   const data = await frameOf(S.run, frame);
+  if (token !== S.showToken || !data) return;  // the slider moved on meanwhile
   const counts = {};
   for (const row of data.records) {
     const r = decode(summary, row);
@@ -269,12 +477,14 @@ async function showFrame(index) {
   $('frame-info').textContent = `stamp ${data.stamp} | ` + Object.entries(counts).map(([t, n]) => `${t} ${n}`).join(', ');
   const img = $('overlay');
   const shapes = frameShapes(summary, data);
+  const scale = summary.image_scale || 1;  // the JPEG's size relative to the frame
   img.onload = () => {
+    img.style.width = `${Math.round(img.naturalWidth / scale)}px`;
     const c = $('hits');
     c.width = img.clientWidth;
     c.height = img.clientHeight;
     c.onclick = (e) => {
-      const sx = img.naturalWidth / img.clientWidth, sy = img.naturalHeight / img.clientHeight;
+      const sx = img.naturalWidth / scale / img.clientWidth, sy = img.naturalHeight / scale / img.clientHeight;
       const best = pickAt(e.offsetX * sx, e.offsetY * sy, 10 * sx);
       if (best) showEntity(best);
     };
@@ -371,6 +581,8 @@ async function start() {
     if (e.key === 'ArrowRight') showFrame(S.frameIndex + 1);
   };
   const params = new URLSearchParams(location.search);
+  if (params.has('follow')) $('follow').checked = params.get('follow') === '1';
+  $('follow').onchange = () => { if (S.entity) showEntity(S.entity); };
   await selectRun(Number(params.get('run') || 0));
   if (params.has('frame')) {
     const summary = await summaryOf(S.run);

@@ -1,0 +1,194 @@
+// LoopClosing::CorrectLoop, the essential graph it optimises and the global BA after it
+// (loop_closer.h steps 3-5).
+#include <algorithm>
+#include <map>
+#include <set>
+#include <utility>
+
+#include "loop/essential_graph.h"
+#include "loop/loop_closer.h"
+#include "loop/loop_matcher.h"
+
+namespace dynref::loop {
+namespace {
+
+std::set<int64_t> Neighbours(const KeyFrame& k) {
+  std::set<int64_t> s;
+  for (const auto& [id, w] : k.connections) s.insert(id);
+  return s;
+}
+
+}  // namespace
+
+void LoopCloser::CorrectLoop(KeyFrame& kf, const Candidate& c, LoopEvent* event) {
+  map_.UpdateConnections(kf.id);
+  // The keyframe and its covisibles with their poses before and after the correction.
+  std::vector<int64_t> connected{kf.id};
+  for (int64_t id : kf.ordered_covisibles)
+    if (map_.kf(id) != nullptr && !map_.kf(id)->bad) connected.push_back(id);
+  std::sort(connected.begin(), connected.end());
+  const SE3 T_wc = kf.T_cw.inverse();
+  std::map<int64_t, SE3> corrected, non_corrected;
+  for (int64_t id : connected) {
+    const SE3 T_iw = map_.kf(id)->T_cw;
+    non_corrected[id] = T_iw;
+    corrected[id] = id == kf.id ? c.T_cw : SE3(T_iw * T_wc) * c.T_cw;
+  }
+  // Map points of the corrected keyframes move with them (each point once, by the first keyframe
+  // in id order that sees it: ORB-SLAM2 mnCorrectedByKF / mnCorrectedReference).
+  std::map<int64_t, int64_t> corrected_by;  // point -> the keyframe whose correction moved it
+  for (int64_t id : connected) {
+    KeyFrame* k = map_.kf(id);
+    const SE3 move = corrected.at(id).inverse() * non_corrected.at(id);
+    for (int64_t mp : k->map_point_ids) {
+      MapPoint* p = mp >= 0 ? map_.good_mp(mp) : nullptr;
+      if (p == nullptr || corrected_by.count(mp)) continue;
+      p->X_w = move * p->X_w;
+      corrected_by[mp] = id;
+      map_.UpdatePointNormalAndDepth(mp);
+    }
+  }
+  for (int64_t id : connected) map_.kf(id)->T_cw = corrected.at(id);
+  for (int64_t id : connected) map_.UpdateConnections(id);
+  // Loop fusion: the keyframe's matched features take the loop points.
+  for (size_t i = 0; i < c.matched.size(); ++i) {
+    const int64_t loop_mp = c.matched[i];
+    if (loop_mp < 0 || map_.good_mp(loop_mp) == nullptr) continue;
+    const int64_t own = kf.map_point_ids[i];
+    if (own >= 0 && map_.good_mp(own) != nullptr) {
+      if (own != loop_mp) map_.ReplacePoint(own, loop_mp);
+    } else {
+      map_.AddObservation(loop_mp, kf.id, static_cast<int>(i));
+    }
+    if (map_.good_mp(loop_mp) != nullptr) map_.UpdatePointDescriptor(loop_mp);
+  }
+  // SearchAndFuse: the loop points into every corrected keyframe.
+  for (int64_t id : connected) {
+    KeyFrame* k = map_.kf(id);
+    if (k == nullptr || k->bad) continue;
+    const FuseResult fr = FusePose(*k, corrected.at(id), c.loop_points, map_, 4.0f);
+    for (const auto& [own, by] : fr.replace)
+      if (map_.good_mp(own) != nullptr && map_.good_mp(by) != nullptr) map_.ReplacePoint(own, by);
+    for (const auto& [feature, by] : fr.add)
+      if (map_.good_mp(by) != nullptr && k->map_point_ids[feature] < 0) map_.AddObservation(by, id, feature);
+  }
+  // New links made by the fusion (ORB-SLAM2 LoopConnections).
+  std::map<int64_t, std::set<int64_t>> loop_connections;
+  const std::set<int64_t> connected_set(connected.begin(), connected.end());
+  for (int64_t id : connected) {
+    KeyFrame* k = map_.kf(id);
+    if (k == nullptr || k->bad) continue;
+    const std::set<int64_t> previous = Neighbours(*k);
+    map_.UpdateConnections(id);
+    std::set<int64_t>& lc = loop_connections[id];
+    for (int64_t n : Neighbours(*k))
+      if (!previous.count(n) && !connected_set.count(n)) lc.insert(n);
+  }
+  // Essential graph (ORB-SLAM2 Optimizer::OptimizeEssentialGraph, fixed scale).
+  std::map<int64_t, SE3> T_cw;
+  std::map<int64_t, std::set<int64_t>> children;
+  for (const auto& [id, k] : map_.keyframes) {
+    if (k->bad) continue;
+    T_cw[id] = k->T_cw;
+    if (k->parent >= 0) children[k->parent].insert(id);
+  }
+  auto before = [&](int64_t id) { return non_corrected.count(id) ? non_corrected.at(id) : T_cw.at(id); };
+  std::vector<PoseGraphEdge> edges;
+  std::set<std::pair<int64_t, int64_t>> inserted;
+  auto key = [](int64_t a, int64_t b) { return std::make_pair(std::min(a, b), std::max(a, b)); };
+  for (const auto& [i, set] : loop_connections) {
+    for (int64_t j : set) {
+      if (!T_cw.count(i) || !T_cw.count(j)) continue;
+      const auto w = map_.kf(i)->connections.find(j);
+      const int weight = w == map_.kf(i)->connections.end() ? 0 : w->second;
+      if ((i != kf.id || j != c.loop_kf) && weight < options_.essential_min_weight) continue;
+      edges.push_back({i, j, SE3(T_cw.at(j) * T_cw.at(i).inverse())});
+      inserted.insert(key(i, j));
+    }
+  }
+  std::map<int64_t, std::set<int64_t>> loop_edges = loop_edges_;
+  loop_edges[kf.id].insert(c.loop_kf);
+  loop_edges[c.loop_kf].insert(kf.id);
+  for (const auto& [i, T_iw] : T_cw) {
+    const KeyFrame* k = map_.kf(i);
+    const SE3 T_wi = before(i).inverse();
+    auto add = [&](int64_t j) { edges.push_back({i, j, SE3(before(j) * T_wi)}); };
+    if (k->parent >= 0 && T_cw.count(k->parent)) add(k->parent);
+    const auto le = loop_edges.find(i);
+    if (le != loop_edges.end())
+      for (int64_t j : le->second)
+        if (j < i && T_cw.count(j)) add(j);
+    for (int64_t j : k->CovisiblesWithWeight(options_.essential_min_weight)) {
+      if (!T_cw.count(j) || j == k->parent || (children.count(i) && children.at(i).count(j))) continue;
+      if (le != loop_edges.end() && le->second.count(j)) continue;
+      if (j >= i || inserted.count(key(i, j))) continue;
+      add(j);
+    }
+  }
+  ++essential_calls_;
+  const PoseGraphResult pg = OptimizePoseGraph(T_cw, {c.loop_kf}, edges, options_.essential_iterations, &trace_,
+                                               "essential#" + std::to_string(essential_calls_));
+  event->essential_chi2_start = pg.chi2_start;
+  event->essential_chi2_end = pg.chi2_end;
+  for (const auto& [id, T] : pg.T_cw) map_.kf(id)->T_cw = T;
+  // Points follow the keyframe that corrected them, else their reference keyframe.
+  for (const auto& [mp, p] : map_.points) {
+    if (p->bad) continue;
+    const auto cb = corrected_by.find(mp);
+    const int64_t ref = cb != corrected_by.end() ? cb->second : p->ref_kf;
+    if (!T_cw.count(ref)) continue;
+    p->X_w = pg.T_cw.at(ref).inverse() * (T_cw.at(ref) * p->X_w);
+    map_.UpdatePointNormalAndDepth(mp);
+  }
+  loop_edges_ = std::move(loop_edges);
+  if (options_.global_ba) GlobalBundleAdjustment();
+}
+
+void LoopCloser::GlobalBundleAdjustment() {
+  std::vector<optim::BAKeyFrame> kfs;
+  std::set<int64_t> good;
+  const int64_t first = map_.keyframes.empty() ? -1 : map_.keyframes.begin()->first;
+  for (const auto& [id, k] : map_.keyframes) {
+    if (k->bad) continue;
+    kfs.push_back({id, k->T_cw, id == first});
+    good.insert(id);
+  }
+  std::vector<optim::BAPoint> pts;
+  std::vector<optim::BAObservation> obs;
+  for (const auto& [id, p] : map_.points) {
+    if (p->bad) continue;
+    std::vector<optim::BAObservation> mine;
+    for (const auto& [k_id, idx] : p->observations) {
+      const KeyFrame* k = map_.kf(k_id);
+      if (!good.count(k_id) || k->frame.IsExcluded(idx)) continue;
+      optim::BAObservation o;
+      o.kf_id = k_id;
+      o.point_id = id;
+      o.uv = {k->frame.keys_un[idx].pt.x, k->frame.keys_un[idx].pt.y};
+      o.u_right = k->frame.u_right[idx];
+      o.inv_sigma2 = k->frame.pyramid.inv_sigma2[k->frame.keys_un[idx].octave];
+      o.weight = k->frame.Weight(idx);
+      o.trace_feature = idx;
+      mine.push_back(o);
+    }
+    if (mine.empty()) continue;
+    pts.push_back({id, p->X_w});
+    obs.insert(obs.end(), mine.begin(), mine.end());
+  }
+  if (obs.empty()) return;
+  ++global_ba_calls_;
+  const optim::LocalBAResult r = optim::LocalBundleAdjust(camera_.Pinhole(), kfs, pts, obs, ba_, &trace_,
+                                                          "globalba#" + std::to_string(global_ba_calls_));
+  for (const optim::BAKeyFrame& k : kfs) {
+    const auto it = r.T_cw.find(k.id);
+    if (!k.fixed && it != r.T_cw.end()) map_.kf(k.id)->T_cw = it->second;
+  }
+  for (const optim::BAPoint& p : pts) {
+    const auto it = r.X_w.find(p.id);
+    if (it == r.X_w.end()) continue;
+    map_.mp(p.id)->X_w = it->second;
+    map_.UpdatePointNormalAndDepth(p.id);
+  }
+}
+
+}  // namespace dynref::loop
