@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "loop/essential_graph.h"
+#include "mapping/ba_observation.h"
 #include "loop/loop_closer.h"
 #include "loop/loop_matcher.h"
 
@@ -161,15 +162,7 @@ void LoopCloser::GlobalBundleAdjustment() {
     for (const auto& [k_id, idx] : p->observations) {
       const KeyFrame* k = map_.kf(k_id);
       if (!good.count(k_id) || k->frame.IsExcluded(idx)) continue;
-      optim::BAObservation o;
-      o.kf_id = k_id;
-      o.point_id = id;
-      o.uv = {k->frame.keys_un[idx].pt.x, k->frame.keys_un[idx].pt.y};
-      o.u_right = k->frame.u_right[idx];
-      o.inv_sigma2 = k->frame.pyramid.inv_sigma2[k->frame.keys_un[idx].octave];
-      o.weight = k->frame.Weight(idx);
-      o.trace_feature = idx;
-      mine.push_back(o);
+      mine.push_back(KeyframeObservation(*k, k_id, id, idx));
     }
     if (mine.empty()) continue;
     pts.push_back({id, p->X_w});

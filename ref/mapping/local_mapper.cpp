@@ -1,6 +1,8 @@
 // ORB-SLAM2 LocalMapping (src/LocalMapping.cc) run sequentially; see local_mapper.h.
 #include "mapping/local_mapper.h"
 
+#include "mapping/ba_observation.h"
+
 #include <time.h>
 #include <cmath>
 #include <set>
@@ -404,15 +406,7 @@ int LocalMapper::LocalBundleAdjustment(KeyFrame& kf, LocalMapperStats* stats) {
       const KeyFrame* k = map_.kf(k_id);
       if (k->bad || (!local.count(k_id) && !fixed.count(k_id))) continue;
       if (k->frame.IsExcluded(idx)) continue;
-      optim::BAObservation o;
-      o.kf_id = k_id;
-      o.point_id = id;
-      o.uv = {k->frame.keys_un[idx].pt.x, k->frame.keys_un[idx].pt.y};
-      o.u_right = k->frame.u_right[idx];
-      o.inv_sigma2 = k->frame.pyramid.inv_sigma2[k->frame.keys_un[idx].octave];
-      o.weight = k->frame.Weight(idx);
-      o.trace_feature = idx;  // link record (optim.h)
-      obs.push_back(o);
+      obs.push_back(KeyframeObservation(*k, k_id, id, idx));
     }
   }
   ++ba_calls_;

@@ -328,7 +328,7 @@ Mesh BuildBoxMesh(Scene* s, uint64_t seed) {
 void AddLoopDecor(uint64_t seed, Scene* s) {
   Rng rng(seed, "synth.loop_decor");
   Mesh& m = s->static_mesh;
-  const Rgb white = C(0.85f, 0.85f, 0.82f), dark = C(0.06f, 0.06f, 0.07f);
+  const Rgb dark = C(0.06f, 0.06f, 0.07f);
   auto poster = [&](float k) {
     return s->AddMaterial(Mat(Pattern::kPrint, C(0.9f - 0.2f * k, 0.85f, 0.7f + 0.2f * k), dark,
                               C(0.2f + 0.6f * k, 0.3f, 0.8f - 0.5f * k), float(rng.Uniform(0.05, 0.12)), rng));
