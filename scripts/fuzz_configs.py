@@ -18,7 +18,14 @@ so the expected line is the mutated line. Values per parameter kind:
 Every value for the first config that has a (stage, key); `--rotate N` values (rotating through
 the list) for each further config with the same key.
 
-usage: fuzz_configs.py --dynref BIN --work DIR [--jobs 2] [--timeout 30] [--rotate 1] [--table OUT]
+The sequences are synthesised once (walking_xyz, 2 frames, ideal detections, `dynref synth --width
+W` for each W of `--widths`, default 160,320,640: W x 3W/4 with scaled intrinsics) and shared by
+every mutant; each config uses the smallest W on which its unmutated run ends complete (a method
+that masks the people needs 320 to initialise), so a mutant costs about one process start plus two
+small frames, not a full-size enhancement or dense map.
+
+usage: fuzz_configs.py --dynref BIN --work DIR [--jobs 2] [--timeout 30] [--rotate 1]
+                       [--widths 160,320,640] [--limit N] [--table OUT]
 """
 import argparse
 import concurrent.futures
@@ -33,6 +40,9 @@ import time
 LINE = re.compile(r'^(\s*)([A-Za-z0-9_]+): \{value: (.*), source: (".*")\}\s*$')
 NUMBER = re.compile(r'^-?[0-9.]+(e[-+]?[0-9]+)?$')
 NON_FINITE = {"inf", "-inf", "nan", "1e308"}
+# Accepted values reviewed in the report (no parameter may take them blindly; each accepted one
+# is listed with its key so the declared range can be checked by eye).
+SUSPECT = {"-1", "0", "1e-308"}
 START = time.time()
 
 
@@ -91,17 +101,51 @@ def mutants(config_dir, rotate):
     return out
 
 
-def complete_outputs(run_dir):
+def run_json(run_dir):
     try:
-        run = json.load(open(os.path.join(run_dir, "run.json")))
+        return json.load(open(os.path.join(run_dir, "run.json")))
     except (OSError, ValueError):
+        return {}
+
+
+def complete_outputs(run_dir, every_frame=False):
+    run = run_json(run_dir)
+    if every_frame and run.get("frames_lost", 1) != 0:
         return False
-    end = run.get("end_state", "")
-    return end in ("complete", "lost-at-end") and os.path.exists(os.path.join(run_dir, "trajectory.txt"))
+    return run.get("end_state", "") in ("complete", "lost-at-end") and os.path.exists(os.path.join(run_dir, "trajectory.txt"))
 
 
-def run_one(args, seq, det, index, m):
+def never_initialised(run_dir):
+    """A valid config that found too few points on the tiny sequence: the run failed after its
+    first frame (exit 2, published nothing over an earlier run), not a refusal of the config."""
+    return any(run_json(d).get("end_state", "").startswith("never-initialised") for d in (run_dir, run_dir + ".failed"))
+
+
+def sequence(args, width):
+    """The shared 2-frame sequence of this width (made once) and its ideal detections folder."""
+    seq = os.path.join(args.work, "seq%d" % width)
+    if not os.path.exists(os.path.join(seq, "rgb.txt")):
+        subprocess.run([args.dynref, "synth", "--preset", "walking_xyz", "--frames", "2", "--seed", "1",
+                        "--detections", "ideal", "--width", str(width), "--out", seq], check=True, capture_output=True)
+    return seq, os.path.join(seq, "detections", "ideal")
+
+
+def smallest_width(args, config):
+    """The smallest of --widths on which the unmutated config tracks every frame (else the largest)."""
+    widths = [int(w) for w in args.widths.split(",")]
+    for w in widths:
+        seq, det = sequence(args, w)
+        out = os.path.join(args.work, "base_%s_%d" % (os.path.basename(config), w))
+        p = subprocess.run([args.dynref, "run", "--sequence", seq, "--config", config, "--out", out, "--trace", "off",
+                            "--no-progress", "--detections", det], capture_output=True, timeout=300)
+        if p.returncode == 0 and complete_outputs(out, every_frame=True):
+            return w
+    return widths[-1]
+
+
+def run_one(args, seqs, index, m):
     name, line, stage, key, original, value, text = m
+    seq, det = seqs[name]
     if args.budget and time.time() - START > args.budget:
         return "not-run", "", 0.0
     wdir = os.path.join(args.work, "m%05d" % index)
@@ -110,9 +154,7 @@ def run_one(args, seq, det, index, m):
     open(cfg, "w").write(text)
     out = os.path.join(wdir, "run")
     cmd = [args.dynref, "run", "--sequence", seq, "--config", cfg, "--out", out, "--trace", "off",
-           "--no-progress"]
-    if det:
-        cmd += ["--detections", det]
+           "--no-progress", "--detections", det]
     t0 = time.time()
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout, errors="replace")
@@ -129,17 +171,20 @@ def run_one(args, seq, det, index, m):
             verdict = "incomplete"
         elif value in NON_FINITE:
             verdict = "accepted-nonfinite"
+        elif value in SUSPECT:
+            label += " (accepted)"
     elif code == 2:
         first = err.strip().split("\n")[-1] if err.strip() else ""
+        label += " -> " + first[:300]
         where = "%s:%d:" % (cfg, line)
         key_named = ("%s.%s" % (stage, key)) in err
         verdict = "refused" if (where in err and key_named) else "wrong-message"
-        if verdict == "wrong-message":
-            label += " -> " + first[:300]
+        if verdict == "wrong-message" and never_initialised(out):
+            verdict = "not-initialised"
     else:
         verdict = "crash"
         label += " -> exit %s: %s" % (code, err.strip()[-300:])
-    if verdict in ("accepted", "refused"):
+    if verdict in ("accepted", "refused", "not-initialised"):
         shutil.rmtree(wdir, ignore_errors=True)
     return verdict, label, seconds
 
@@ -154,15 +199,13 @@ def main():
     ap.add_argument("--rotate", type=int, default=1)
     ap.add_argument("--limit", type=int, default=0, help="first N mutants only (0 = all)")
     ap.add_argument("--table", default="-")
+    ap.add_argument("--widths", default="160,320,640", help="image widths tried per config, smallest first")
     ap.add_argument("--budget", type=float, default=0, help="stop starting mutants after this many seconds (0 = none)")
+    ap.add_argument("--fresh", action="store_true", help="empty --work first (a new sequence)")
     args = ap.parse_args()
+    if args.fresh:
+        shutil.rmtree(args.work, ignore_errors=True)
     os.makedirs(args.work, exist_ok=True)
-    seq = os.path.join(args.work, "seq")
-    if not os.path.exists(os.path.join(seq, "rgb.txt")):
-        subprocess.run([args.dynref, "synth", "--preset", "walking_xyz", "--frames", "2", "--seed", "1",
-                        "--detections", "ideal", "--out", seq], check=True, capture_output=True)
-    det = os.path.join(seq, "detections", "ideal")
-    det = det if os.path.isdir(det) else ""
     ms = mutants(args.configs, args.rotate)
     # Round robin over the configs (a time budget then covers every config), then every 7th
     # mutant of a config first (spread over its parameters and values).
@@ -174,30 +217,53 @@ def main():
     ms = [m for _, m in sorted(zip(order, ms), key=lambda t: t[0])]
     if args.limit:
         ms = ms[: args.limit]
+    widths = {}
+    for name in sorted({m[0] for m in ms}):
+        widths[name] = smallest_width(args, os.path.join(args.configs, name))
+        print("%s: %d px" % (name, widths[name]), file=sys.stderr, flush=True)
+    seqs = {name: sequence(args, w) for name, w in widths.items()}
     counts = {}
-    findings = []
+    findings, examples, suspects, seconds = [], {}, [], []
     per_config = {}
+    log = open(os.path.join(args.work, "results.jsonl"), "w")
     t0 = time.time()
     with concurrent.futures.ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        futures = [pool.submit(run_one, args, seq, det, i, m) for i, m in enumerate(ms)]
+        futures = [pool.submit(run_one, args, seqs, i, m) for i, m in enumerate(ms)]
         for i, f in enumerate(futures):
-            verdict, label, _ = f.result()
+            verdict, label, sec = f.result()
             counts[verdict] = counts.get(verdict, 0) + 1
+            log.write(json.dumps({"verdict": verdict, "label": label, "seconds": round(sec, 3)}) + "\n")
+            if verdict != "not-run":
+                seconds.append(sec)
+            if verdict in ("accepted", "refused") and len(examples.setdefault(verdict, [])) < 4 and ms[i][5] in NON_FINITE | SUSPECT | {"abc", "[1, 2]"}:
+                examples[verdict].append(label)
+            if verdict == "accepted" and label.endswith("(accepted)"):
+                suspects.append(label)
             pc = per_config.setdefault(ms[i][0], {})
             pc[verdict] = pc.get(verdict, 0) + 1
-            if verdict not in ("accepted", "refused", "not-run"):
+            if verdict == "not-initialised":
+                suspects.append("not initialised: " + label)
+            elif verdict not in ("accepted", "refused", "not-run"):
                 findings.append("%s: %s" % (verdict, label))
                 print("FINDING %s: %s" % (verdict, label), file=sys.stderr, flush=True)
             if (i + 1) % 100 == 0:
                 print("%d/%d mutants, %.0f s" % (i + 1, len(ms), time.time() - t0), file=sys.stderr, flush=True)
-    kinds = ["accepted", "refused", "crash", "hang", "accepted-nonfinite", "incomplete", "wrong-message", "not-run"]
-    lines = ["| config | mutants | " + " | ".join(kinds) + " |", "|---" * (len(kinds) + 2) + "|"]
+    kinds = ["accepted", "refused", "not-initialised", "crash", "hang", "accepted-nonfinite", "incomplete", "wrong-message", "not-run"]
+    lines = ["| config | width | mutants | " + " | ".join(kinds) + " |", "|---" * (len(kinds) + 3) + "|"]
     for name in sorted(per_config):
         pc = per_config[name]
-        lines.append("| %s | %d | %s |" % (name, sum(pc.values()), " | ".join(str(pc.get(k, 0)) for k in kinds)))
-    lines.append("| **all** | **%d** | %s |" % (len(ms), " | ".join("**%d**" % counts.get(k, 0) for k in kinds)))
+        lines.append("| %s | %d | %d | %s |" % (name, widths[name], sum(pc.values()), " | ".join(str(pc.get(k, 0)) for k in kinds)))
+    lines.append("| **all** | | **%d** | %s |" % (len(ms), " | ".join("**%d**" % counts.get(k, 0) for k in kinds)))
     lines.append("")
-    lines.append("Wall time %.0f s with %d jobs, time limit %g s per mutant." % (time.time() - t0, args.jobs, args.timeout))
+    lines.append("Wall time %.0f s with %d jobs, time limit %g s per mutant; %s." % (
+        time.time() - t0, args.jobs, args.timeout,
+        "seconds per mutant: median %.2f, max %.2f" % (sorted(seconds)[len(seconds) // 2], max(seconds)) if seconds else "none ran"))
+    for verdict in ("accepted", "refused"):
+        if examples.get(verdict):
+            lines += ["", "Examples, %s:" % verdict, "```"] + examples[verdict] + ["```"]
+    if suspects:
+        lines += ["", "Accepted -1, 0 or 1e-308, and valid values on which the run did not initialise (%d; listed for review):" % len(suspects),
+                  "```"] + suspects + ["```"]
     if findings:
         lines += ["", "Findings:", "```"] + findings + ["```"]
     table = "\n".join(lines) + "\n"

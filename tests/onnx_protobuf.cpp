@@ -61,6 +61,15 @@ Pb IntAttribute(const std::string& name, int64_t v) {
   return a;
 }
 
+// AttributeProto s 4, type STRING = 3.
+Pb StringAttribute(const std::string& name, const std::string& v) {
+  Pb a;
+  a.Bytes(1, name);
+  a.Bytes(4, v);
+  a.Int(20, 3);
+  return a;
+}
+
 Pb IntsAttribute(const std::string& name, const std::vector<int64_t>& v) {
   Pb a;
   a.Bytes(1, name);

@@ -24,6 +24,7 @@ Pb Int64Tensor(const std::string& name, const std::vector<int64_t>& values);
 // AttributeProto: INT and INTS.
 Pb IntAttribute(const std::string& name, int64_t v);
 Pb IntsAttribute(const std::string& name, const std::vector<int64_t>& v);
+Pb StringAttribute(const std::string& name, const std::string& v);
 // NodeProto named out + "_node".
 Pb Node(const std::string& op, const std::vector<std::string>& inputs, const std::string& output,
         const std::vector<Pb>& attributes = {});

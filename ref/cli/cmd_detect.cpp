@@ -235,7 +235,7 @@ void RegisterDetectCommand(CLI::App& root, CommandList& out) {
   CLI::App* app = root.add_subcommand(
       "detect", "Precompute per-frame detections (boxes, classes, masks) into dynref's mask format");
   app->add_option("--source", args->source,
-                  "nanodet | hog | onnx-yolo[:MODEL] | files[:DIR] | labels[:DIR] | gt[:MODE]")
+                  "nanodet | hog | onnx-yolo[:MODEL] | onnx-maskrcnn[:MODEL] | onnx-yolact[:MODEL] | files[:DIR] | labels[:DIR] | gt[:MODE]")
       ->required();
   app->add_option("--sequence", args->sequence, "TUM/Bonn/synthetic sequence folder");
   app->add_option("--image", args->image, "Single image instead of a sequence");
@@ -248,10 +248,10 @@ void RegisterDetectCommand(CLI::App& root, CommandList& out) {
   app->add_option("--model-sha256", args->options.model_sha256, "Expected sha256 of --model");
   app->add_option("--mask-model", args->options.mask_model_path, "Selfie segmenter ONNX (default: bundled)");
   CLI::Option* conf = app->add_option("--conf", args->options.confidence_threshold,
-                  "Confidence threshold in [0, 1] (default: nanodet 0.3, onnx-yolo 0.25, hog 0.5)");
+                  "Confidence threshold in [0, 1] (default: nanodet 0.3, onnx-yolo 0.25, onnx-maskrcnn / onnx-yolact 0.05, hog 0.5)");
   app->add_option("--nms-iou", args->options.nms_iou, "Per-class NMS IoU threshold")->capture_default_str();
   app->add_option("--max-detections", args->options.max_detections, "Per frame")->capture_default_str();
-  app->add_option("--input-size", args->options.yolo_input_size, "onnx-yolo square input size")->capture_default_str();
+  app->add_option("--input-size", args->options.yolo_input_size, "onnx-yolo / onnx-yolact square input size (the default 640 means 550 for onnx-yolact)")->capture_default_str();
   app->add_option("--class-names", args->options.class_names_file, "onnx-yolo: one class name per line");
   app->add_flag("--no-masks", args->no_masks, "Boxes only (skip selfie / YOLO-seg masks)");
   app->add_option("--temporal-gap", args->temporal.max_gap,

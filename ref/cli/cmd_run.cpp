@@ -24,6 +24,11 @@ void RegisterRunCommand(CLI::App& root, CommandList& out) {
   app->add_option("--trace", opts->trace_level, "trace level: off | frames | full (default frames)");
   app->add_option("--detections", opts->detections_dir, "dynref-detections folder for the method stages");
   app->add_option("--detector", opts->detector, "detection source spec (see dynref detect), e.g. gt:yolo-like");
+  app->add_option("--detector-temporal-gap", opts->detector_temporal.max_gap,
+                  "carry a person the --detector missed up to N frames along its track, as dynref detect "
+                  "--temporal-gap N does (0 = off, default; ref/detect/temporal_links.h)");
+  app->add_option("--detector-temporal-iou", opts->detector_temporal.iou_link,
+                  "box IoU linking a detection to a track (default 0.3)");
   app->add_option("--camera", opts->camera, "camera preset or ORB-SLAM2 YAML (default: auto)");
   CLI::Option* frames_opt = app->add_option("--frames", *frames, "frames A, A-B or A- (0-based, inclusive; A- = to the end)");
   app->add_option("--set", *sets,

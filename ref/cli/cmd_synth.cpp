@@ -24,6 +24,10 @@ void RegisterSynthCommand(CLI::App& root, CommandList& out) {
   app->add_option("--frames", opt->frames,
                   "Number of frames (0 = the preset's default, ~700-1260; at most " +
                       std::to_string(synth::kMaxFrames) + ")");
+  app->add_option("--width", opt->width,
+                  "Image width in pixels: 0 = 640x480 (default), else a multiple of 4 in " +
+                      std::to_string(synth::kMinWidth) + "..640, height 3/4 of it, intrinsics scaled "
+                      "(cheap sequences for smoke tests and fuzzing)");
   app->add_option("--seed", *seed, "Seed of every random stream (textures, clothing, noise, detections); 0..2^64-1");
   app->add_flag("--blur", opt->blur, "Motion blur: average 8 sub-frame renders over a 33 ms exposure");
   app->add_flag("--low-light", opt->low_light, "Dark, low-contrast, noisier images");

@@ -20,7 +20,7 @@ void RegisterViewCommand(CLI::App& root, CommandList& out) {
       ->required();
   app->add_option("--out", options->out_dir, "Site folder (replaced when written by dynref view before)")->required();
   app->add_flag("!--no-overlays", options->overlays, "Do not render the frames' overlays");
-  app->add_option("--jpeg-quality", options->jpeg_quality, "Overlay JPEG quality 1..100 (default 70)");
+  app->add_option("--jpeg-quality", options->jpeg_quality, "Overlay JPEG quality 1..100 (default 60)");
   app->add_option("--image-scale", options->image_scale, "Overlay JPEG size relative to the frame, 0.1..1 (default 0.5)");
   app->add_option("--digits", options->digits,
                   "Significant digits of the numbers the page shows, 1..17 (default 6; 17 = exact, a larger site)");

@@ -33,7 +33,8 @@ void DetectSourceOptions::Check() const {
 }
 
 namespace {
-const char* const kKnownSpecs = "files:DIR, labels:DIR, gt, gt:MODE, nanodet, hog, onnx-yolo[:MODEL]";
+const char* const kKnownSpecs =
+    "files:DIR, labels:DIR, gt, gt:MODE, nanodet, hog, onnx-yolo[:MODEL], onnx-maskrcnn[:MODEL], onnx-yolact[:MODEL]";
 }  // namespace
 
 void CheckDetectionSpec(const std::string& spec, const DetectSourceOptions& options, const std::string& option) {
@@ -54,9 +55,9 @@ void CheckDetectionSpec(const std::string& spec, const DetectSourceOptions& opti
     return;
   }
   if (kind == "nanodet" || kind == "hog") return no_arg();
-  if (kind == "onnx-yolo") {
+  if (kind == "onnx-yolo" || kind == "onnx-maskrcnn" || kind == "onnx-yolact") {
     if (arg.empty() && options.model_path.empty())
-      throw InputError(option, "source 'onnx-yolo' needs a model: 'onnx-yolo:PATH' or --model PATH");
+      throw InputError(option, "source '" + kind + "' needs a model: '" + kind + ":PATH' or --model PATH");
     return;
   }
   throw InputError(option, "unknown detection source '" + spec + "' (known: " + kKnownSpecs + ")");
@@ -76,7 +77,9 @@ std::unique_ptr<DetectionSource> MakeDetectionSource(const std::string& spec,
                                                 : options.sequence_root + "/detections/" + arg);
   if (kind == "nanodet") return detect::MakeNanodetSource(options);
   if (kind == "hog") return detect::MakeHogSource(options);
-  return detect::MakeOnnxYoloSource(arg.empty() ? options.model_path : arg, options);  // onnx-yolo
+  const std::string model = arg.empty() ? options.model_path : arg;
+  if (kind == "onnx-maskrcnn" || kind == "onnx-yolact") return detect::MakeOnnxInstanceSource(kind, model, options);
+  return detect::MakeOnnxYoloSource(model, options);  // onnx-yolo
 }
 
 namespace detect {

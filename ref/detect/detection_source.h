@@ -9,6 +9,8 @@
 //   nanodet         bundled NanoDet (COCO-80) + selfie person masks, OpenCV DNN on CPU
 //   hog             OpenCV HOG people detector (boxes only, no network)
 //   onnx-yolo[:M]   user YOLOv8/YOLO11 detect or seg ONNX (opset <= 12); M or options.model_path
+//   onnx-maskrcnn[:M]  user torchvision Mask R-CNN ONNX (boxes, labels, scores, masks)
+//   onnx-yolact[:M]    user YOLACT ONNX (loc, conf, mask coefficients, prototypes)
 #pragma once
 #include <memory>
 #include <opencv2/core.hpp>

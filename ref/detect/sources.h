@@ -14,6 +14,9 @@ std::unique_ptr<DetectionSource> MakeNanodetSource(const DetectSourceOptions& op
 std::unique_ptr<DetectionSource> MakeHogSource(const DetectSourceOptions& options);
 std::unique_ptr<DetectionSource> MakeOnnxYoloSource(const std::string& model_path,
                                                     const DetectSourceOptions& options);
+// kind "onnx-maskrcnn" (torchvision Mask R-CNN) or "onnx-yolact" (onnx_instance_source.cpp).
+std::unique_ptr<DetectionSource> MakeOnnxInstanceSource(const std::string& kind, const std::string& model_path,
+                                                        const DetectSourceOptions& options);
 // A dynref-detections folder; name()/model_sha256() pass through what the folder records.
 std::unique_ptr<DetectionSource> MakeFolderSource(const std::string& dir);
 // DynaSLAM-style label PNG folder (see label_png_import.h).

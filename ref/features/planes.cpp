@@ -39,7 +39,7 @@ bool FitPlane(const PlaneFitSums& f, Eigen::Vector3d* normal, double* d, double*
 
 namespace {
 
-struct Node {
+struct BlockNode {
   PlaneFitSums sums;
   Eigen::Vector3d n = Eigen::Vector3d::Zero();
   double d = 0, mse = 0;
@@ -71,7 +71,7 @@ PlaneSegmentation SegmentPlanes(const cv::Mat& depth_m, const Intrinsics& K, con
   const auto at = [&](int r, int c) -> const Eigen::Vector3d& { return P[static_cast<size_t>(r) * gw + c]; };
   const int bw = gw / o.block, bh = gh / o.block;
   // 1. Blocks.
-  std::vector<Node> nodes;
+  std::vector<BlockNode> nodes;
   std::vector<int> node_of_block(static_cast<size_t>(bw) * bh, -1);
   for (int br = 0; br < bh; ++br)
     for (int bc = 0; bc < bw; ++bc) {
@@ -88,7 +88,7 @@ PlaneSegmentation SegmentPlanes(const cv::Mat& depth_m, const Intrinsics& K, con
           f.Add(p);
         }
       if (!ok) continue;
-      Node nd;
+      BlockNode nd;
       nd.sums = f;
       if (!FitPlane(f, &nd.n, &nd.d, &nd.mse)) continue;
       const double z = f.s.z() / f.n;
@@ -138,7 +138,7 @@ PlaneSegmentation SegmentPlanes(const cv::Mat& depth_m, const Intrinsics& K, con
     const double z = best >= 0 ? best_sums.s.z() / best_sums.n : 0;
     const double t = SigmaZ(o, z) + o.tol_merge_m;
     if (best >= 0 && best_mse <= t * t) {
-      Node m;
+      BlockNode m;
       m.sums = best_sums, m.n = best_n, m.d = best_d, m.mse = best_mse, m.alive = true;
       m.blocks = nodes[a].blocks;
       m.blocks.insert(m.blocks.end(), nodes[best].blocks.begin(), nodes[best].blocks.end());
@@ -167,7 +167,7 @@ PlaneSegmentation SegmentPlanes(const cv::Mat& depth_m, const Intrinsics& K, con
   cv::Mat grid_label(gh, gw, CV_16S, cv::Scalar(-1));
   cv::Mat grid_dist(gh, gw, CV_64F, cv::Scalar(std::numeric_limits<double>::infinity()));
   for (size_t k = 0; k < extracted.size(); ++k) {
-    const Node& nd = nodes[static_cast<size_t>(extracted[k])];
+    const BlockNode& nd = nodes[static_cast<size_t>(extracted[k])];
     std::set<int> blocks(nd.blocks.begin(), nd.blocks.end());
     for (int b : nd.blocks) {
       const int br = b / bw, bc = b % bw;

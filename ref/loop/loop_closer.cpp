@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 
+#include "core/cpu_clock.h"
 #include "core/error.h"
 #include "loop/essential_graph.h"
 #include "loop/loop_matcher.h"
@@ -36,23 +37,14 @@ LoopCloser::LoopCloser(Map& map, const Camera& camera, const LoopClosingOptions&
 bool LoopCloser::Process(int64_t kf_id, tracking::PlaceIndex& place) {
   KeyFrame* kf = map_.kf(kf_id);
   if (kf == nullptr || kf->bad) return false;
-  place.EraseBad(map_);
-  const LoopDetection d = detector_.Detect(*kf, map_, place);
-  if (d.skipped) return false;
-  trace_.FrameCount("loop", "candidates", static_cast<int64_t>(d.candidates.size()));
-  for (const LoopCandidate& c : d.candidates) {
-    trace_.ProbabilityUpdate("loop.candidate", trace::EntityKind::kKeyFrame, Kf(c.kf),
-                             {{"query", static_cast<double>(kf_id)},
-                              {"score", c.score},
-                              {"min_score", d.min_score},
-                              {"consistency", static_cast<double>(c.consistency)},
-                              {"threshold", static_cast<double>(options_.detector.consistency)}},
-                             0.0, c.accepted ? 1.0 : 0.0);
-    trace_.Decision("loop.candidate", trace::EntityKind::kKeyFrame, Kf(c.kf), c.accepted, c.reason);
-  }
-  if (d.accepted.empty()) return false;
+  const double t0 = ThreadCpuMs();
   Candidate c;
-  if (!ComputeSe3(*kf, d.accepted, place, &c)) return false;
+  const bool found = DetectAndMatch(*kf, place, &c);
+  const double t1 = ThreadCpuMs();
+  ++timing_.keyframes;
+  timing_.detect_ms += t1 - t0;
+  if (!found) return false;
+  const double ba_before = timing_.global_ba_ms;
   LoopEvent event;
   event.kf = kf_id;
   event.loop_kf = c.loop_kf;
@@ -74,7 +66,29 @@ bool LoopCloser::Process(int64_t kf_id, tracking::PlaceIndex& place) {
   trace_.FrameCount("loop", "closed", 1);
   loops_.push_back(event);
   detector_.SetLastLoop(kf_id);
+  ++timing_.loops;
+  timing_.correct_ms += ThreadCpuMs() - t1 - (timing_.global_ba_ms - ba_before);
   return true;
+}
+
+bool LoopCloser::DetectAndMatch(KeyFrame& kf, tracking::PlaceIndex& place, Candidate* out) {
+  const int64_t kf_id = kf.id;
+  place.EraseBad(map_);
+  const LoopDetection d = detector_.Detect(kf, map_, place);
+  if (d.skipped) return false;
+  trace_.FrameCount("loop", "candidates", static_cast<int64_t>(d.candidates.size()));
+  for (const LoopCandidate& c : d.candidates) {
+    trace_.ProbabilityUpdate("loop.candidate", trace::EntityKind::kKeyFrame, Kf(c.kf),
+                             {{"query", static_cast<double>(kf_id)},
+                              {"score", c.score},
+                              {"min_score", d.min_score},
+                              {"consistency", static_cast<double>(c.consistency)},
+                              {"threshold", static_cast<double>(options_.detector.consistency)}},
+                             0.0, c.accepted ? 1.0 : 0.0);
+    trace_.Decision("loop.candidate", trace::EntityKind::kKeyFrame, Kf(c.kf), c.accepted, c.reason);
+  }
+  if (d.accepted.empty()) return false;
+  return ComputeSe3(kf, d.accepted, place, out);
 }
 
 bool LoopCloser::ComputeSe3(const KeyFrame& kf, const std::vector<int64_t>& accepted,

@@ -64,6 +64,14 @@ struct LoopEvent {
   double essential_chi2_start = 0, essential_chi2_end = 0;
 };
 
+// CPU time (thread clock of the thread that ran it) of loop closing, for run.json (issue 34 cost).
+struct LoopTiming {
+  int64_t keyframes = 0, loops = 0;  // keyframes processed, loops closed
+  double detect_ms = 0;              // DetectLoop + ComputeSe3, every keyframe
+  double correct_ms = 0;             // CorrectLoop without the global BA (fusion, essential graph)
+  double global_ba_ms = 0;
+};
+
 class LoopCloser {
  public:
   LoopCloser(Map& map, const Camera& camera, const LoopClosingOptions& options, const optim::LocalBAOptions& ba,
@@ -72,6 +80,7 @@ class LoopCloser {
   // was closed (the map changed).
   bool Process(int64_t kf_id, tracking::PlaceIndex& place);
   const std::vector<LoopEvent>& loops() const { return loops_; }
+  const LoopTiming& timing() const { return timing_; }
 
  private:
   struct Candidate {
@@ -81,6 +90,8 @@ class LoopCloser {
     std::vector<int64_t> loop_points;    // the loop keyframe's and its covisibles' points
     int bow_matches = 0, se3_inliers = 0, loop_matches = 0;
   };
+  // DetectLoop and ComputeSe3 (steps 1-2): true with the loop in `out`.
+  bool DetectAndMatch(KeyFrame& kf, tracking::PlaceIndex& place, Candidate* out);
   bool ComputeSe3(const KeyFrame& kf, const std::vector<int64_t>& accepted, const tracking::PlaceIndex& place,
                   Candidate* out);
   void CorrectLoop(KeyFrame& kf, const Candidate& c, LoopEvent* event);
@@ -96,6 +107,7 @@ class LoopCloser {
   std::map<int64_t, std::set<int64_t>> loop_edges_;  // ORB-SLAM2 KeyFrame::mspLoopEdges
   std::vector<LoopEvent> loops_;
   int essential_calls_ = 0, global_ba_calls_ = 0;
+  LoopTiming timing_;
 };
 
 }  // namespace dynref::loop

@@ -5,6 +5,7 @@
 #include <set>
 #include <utility>
 
+#include "core/cpu_clock.h"
 #include "loop/essential_graph.h"
 #include "mapping/ba_observation.h"
 #include "loop/loop_closer.h"
@@ -142,7 +143,11 @@ void LoopCloser::CorrectLoop(KeyFrame& kf, const Candidate& c, LoopEvent* event)
     map_.UpdatePointNormalAndDepth(mp);
   }
   loop_edges_ = std::move(loop_edges);
-  if (options_.global_ba) GlobalBundleAdjustment();
+  if (options_.global_ba) {
+    const double t0 = ThreadCpuMs();
+    GlobalBundleAdjustment();
+    timing_.global_ba_ms += ThreadCpuMs() - t0;
+  }
 }
 
 void LoopCloser::GlobalBundleAdjustment() {

@@ -26,11 +26,13 @@ LoopDetection LoopDetector::Detect(const KeyFrame& kf, const Map& map, const tra
     out.skipped = true;
     return out;
   }
-  // Step 2: the lowest score among the covisible keyframes.
+  // Step 2: the lowest score among the covisible keyframes, GetVectorCovisibleKeyFrames (weight
+  // >= 15, kf.ordered_covisibles); the candidates exclude every connected keyframe,
+  // GetConnectedKeyFrames (kf.connections, any weight).
   std::set<place::KeyFrameId> connected;
-  for (const auto& [c, weight] : kf.connections) {  // GetConnectedKeyFrames
+  for (const auto& [c, weight] : kf.connections) connected.insert(static_cast<place::KeyFrameId>(c));
+  for (int64_t c : kf.ordered_covisibles) {
     const KeyFrame* k = map.kf(c);
-    connected.insert(static_cast<place::KeyFrameId>(c));
     if (k == nullptr || k->bad) continue;
     const tracking::PlaceBow* b = place.Of(c);
     if (b == nullptr) continue;

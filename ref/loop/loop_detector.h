@@ -3,7 +3,9 @@
 // index, deterministic (every set ordered by keyframe id):
 //  1. skipped while fewer than `min_keyframes_since_loop` (10) keyframes were created since the
 //     last loop (ORB-SLAM2: mnId < mLastLoopKFid + 10; the last loop starts at keyframe 0);
-//  2. min_score = the lowest BoW score between the keyframe and its (good) covisible keyframes;
+//  2. min_score = the lowest BoW score between the keyframe and its (good) covisible keyframes,
+//     those of weight >= 15 (kf.ordered_covisibles, ORB-SLAM2 GetVectorCovisibleKeyFrames; a
+//     weakly connected keyframe would lower the bar);
 //  3. candidates = KeyFrameDatabase::DetectLoopCandidates(kf, min_score) (place/keyframe_database.h);
 //  4. covisibility consistency: each candidate's group (itself + its connected keyframes) is
 //     consistent with a group of the previous detection when they share a keyframe; its

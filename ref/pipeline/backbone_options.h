@@ -1,7 +1,9 @@
 // Typed backbone options (issue 12): one struct with the ORB-SLAM2 defaults, read once from a
-// config's `backbone:` map through a single table of keys (backbone_options.cpp), so that a new
-// backbone parameter is one struct field plus one table row. Each key's default and source are
-// recorded in the resolved config (run.json, trace header).
+// config's `backbone:` map through a single table of keys (backbone_keys.cpp), so that a new
+// backbone parameter is one struct field (with its default) plus one table row (key, field, range,
+// source). The struct is the only place of a default (issue 33): a key's default text is read
+// from BackboneOptions{}. Each key's default and source are recorded in the resolved config
+// (run.json, trace header).
 #pragma once
 #include <map>
 #include <string>
@@ -40,11 +42,20 @@ struct BackboneOptions {
 
 struct BackboneKeyInfo {
   std::string key;
-  std::string default_value;  // as written in the resolved config
+  std::string default_value;  // as written in the resolved config: BackboneOptions{}'s value
   std::string source;         // ORB-SLAM2 file / function the default comes from
+  std::string type;           // int | real | bool | text
+  double lo = 0, hi = 0;      // int, real: the inclusive range (real: lo excluded when lo_open)
+  bool lo_open = false;
+  std::string choices;        // text: the allowed values separated by '|' (empty: any)
 };
 // Every backbone key, in name order.
 std::vector<BackboneKeyInfo> BackboneKeys();
+// The value of a key in `o` as a config writes it ("5.991", "true", "orb"); std::invalid_argument
+// for an unknown key.
+std::string BackboneKeyText(const BackboneOptions& o, const std::string& key);
+// Sets one key from its text as a config value would (range-checked; InputError naming `file`).
+void SetBackboneKey(BackboneOptions& o, const std::string& key, const std::string& text, const std::string& file = "");
 
 // Fills `params` with every backbone key (given ones as given, the others with their default and
 // source, file = config path) and returns the typed options. InputError (file:line) for an

@@ -18,7 +18,10 @@
 #include "loop/loop_closer.h"
 #include "mapping/local_mapper.h"
 #include "mapping/mapping_clock.h"
+#include "method/frame_edit.h"
+#include "method/map_module.h"
 #include "method/session.h"
+#include "method/stage.h"
 #include "structure/structure_tracker.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/run_inputs.h"
@@ -56,6 +59,7 @@ class FrameLoop {
   const Map& map() const { return map_; }
   const tracking::Tracker& tracker() const { return tracker_; }
   const mapping::LocalMapper& mapper() const { return mapper_; }
+  const loop::LoopCloser* loop_closer() const { return loop_.get(); }  // null: loop closing off
   RunResult& result() { return result_; }
   const std::vector<std::pair<int, std::string>>& lost_reasons() const { return lost_reasons_; }
   const ModuleTimings& timings() const { return timings_; }
@@ -64,9 +68,45 @@ class FrameLoop {
   int frames_all_excluded() const { return n_all_excluded_; }
 
  private:
+  using MapLock = std::unique_lock<std::mutex>;  // held in concurrent mode, else never locked
+  // What tracking decided for one frame.
+  struct TrackOutcome {
+    bool ok = false;
+    KeyFrame* new_kf = nullptr;  // made by initialisation or the keyframe decision
+    std::string lost_reason;     // when !ok
+  };
+  // Module clock readings of one frame (ms) and the times measured inside a step.
+  struct FrameTimes {
+    double start = 0, loaded = 0, extracted = 0, tracked = 0, mapped = 0, finished = 0;
+    double ba_ms = 0, lines_ms = 0, planes_ms = 0;
+  };
+
+  // Process's steps in order (frame_steps.cpp). In concurrent mode `lock` is held except while
+  // a step decodes images or extracts ORB features.
+  void StartMapperThread();
+  void LoadFrame(const FrameEntry& e, Frame& f, FrameDetections& dets, MapLock& lock);
+  StageContext StageContextFor(FrameEdit& edit);  // the tracking state before this frame
+  void RunBeforeExtraction(Frame& f, StageContext& ctx);
+  void ExtractFeatures(Frame& f, MapLock& lock, FrameTimes& times);
+  void ExtractPoints(Frame& f);
+  void RunAfterExtraction(Frame& f, StageContext& ctx);
+  TrackOutcome Initialise(Frame& f);
+  TrackOutcome Track(Frame& f, StageContext& ctx);
+  KeyFrame* DecideKeyFrame(Frame& f);
+  double HandOverKeyFrame(Frame& f, KeyFrame& kf, StageContext& ctx);  // returns local BA ms
+  double MapKeyFrameNow(const Frame& f, KeyFrame& kf, StageContext& ctx, const MapModuleContext& mctx);
+  void AfterLocalMapping(KeyFrame& kf, const MapModuleContext& mctx);
+  void EndFrame(Frame& f, const TrackOutcome& t);
+  void CountFrame(size_t k, const TrackOutcome& t);
+  // Trace records and module timings of a frame (frame_trace.cpp).
+  void TraceTrackedFrame(const Frame& f, bool ok);
+  void TraceObservations(const Frame& f);
+  void TraceStructure(const Frame& f, bool ok);
+  void RecordTimings(const FrameTimes& t);
   // Local mapping of a new keyframe and the on_map_update stages / map modules: inline after the
   // frame (oracle) or in the mapping thread (concurrent).
   void MapperLoop();
+  void MapQueuedKeyFrame(int64_t id);
   const RunOptions& options_;
   const RunInputs& inputs_;
   Session& session_;
@@ -75,6 +115,7 @@ class FrameLoop {
   std::unique_ptr<features::KeypointExtractor> extractor_;  // backbone features (orb | sift | onnx)
   ScalePyramid pyramid_;  // of the extractor's profile
   bool rgb_flag_;
+  double depth_edge_rel_;  // backbone.depth_edge_rel (Frame::FinishFeatures)
   Map map_;
   tracking::Tracker tracker_;
   mapping::LocalMapper mapper_;

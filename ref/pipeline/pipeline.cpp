@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <stdexcept>
 #include <nlohmann/json.hpp>
 
 #include "core/atomic_file.h"
@@ -71,6 +72,14 @@ void RunOptions::Check() const {
     d.sequence_root = sequence;
     CheckDetectionSpec(detector, d, "--detector");
   }
+  try {
+    detector_temporal.Check();
+  } catch (const std::invalid_argument& e) {
+    throw InputError("--detector-temporal-gap/--detector-temporal-iou", e.what());
+  }
+  if (detector_temporal.max_gap > 0 && detector.empty())
+    throw InputError("--detector-temporal-gap", "links a detector's frames: give --detector SPEC (a --detections "
+                                                "folder is linked by dynref detect --temporal-gap)");
   if (threads < 1 || threads > 64) throw InputError("--threads", "must be in 1..64, got " + std::to_string(threads));
   if (variant != "oracle" && variant != "concurrent")
     throw InputError("--variant", "must be oracle or concurrent, got '" + variant + "'");

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/frame_range.h"
+#include "detect/temporal_links.h"
 #include "method/registry.h"
 #include "pipeline/method_config.h"
 
@@ -27,6 +28,9 @@ struct RunOptions {
   std::string trace_level = "frames";
   std::string detections_dir;    // dynref-detections folder (optional)
   std::string detector;          // detection source spec (ref/detect), optional
+  // --detector-temporal-gap / --detector-temporal-iou: the detector's frames pass through the
+  // temporal linker of `dynref detect --temporal-gap` (issue 39; max_gap 0 = off, the default).
+  detect::TemporalOptions detector_temporal{0};
   std::string camera;            // preset / YAML; empty = auto
   FrameRange frames;             // --frames: inclusive sequence indices (default: all)
   bool progress = true;          // progress line when stderr is a terminal

@@ -3,6 +3,8 @@
 #include <filesystem>
 
 #include "core/error.h"
+#include "core/format.h"
+#include "detect/temporal_source.h"
 #include "map/frame.h"
 
 namespace dynref {
@@ -47,6 +49,12 @@ void OpenDetections(const RunOptions& options, RunInputs& in) {
     dopt.sequence_root = options.sequence;
     in.det_source = MakeDetectionSource(options.detector, dopt);
     in.detector_name = in.det_source->name() + " sha256:" + in.det_source->model_sha256();
+    const detect::TemporalOptions& t = options.detector_temporal;
+    if (t.max_gap > 0) {
+      const Camera& cam = in.sequence.camera;
+      in.det_source = detect::WithTemporalLinks(std::move(in.det_source), t, cv::Size(cam.width, cam.height));
+      in.detector_name += " temporal-gap:" + std::to_string(t.max_gap) + " temporal-iou:" + FormatDouble17(t.iou_link);
+    }
   }
   // --frames must lie inside the sequence (same rule as detect and overlay).
   const int64_t last_frame = options.frames.LastIn(static_cast<int64_t>(in.sequence.frames.size()));

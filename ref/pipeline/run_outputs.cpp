@@ -127,6 +127,18 @@ void WriteRunJson(const RunOptions& options, const RunInputs& inputs, FrameLoop&
     j["timing"]["lines"] = Summary(t.lines);
     j["timing"]["planes"] = Summary(t.planes);
   }
+  if (const loop::LoopCloser* lc = loop.loop_closer()) {  // backbone.loop_closing on (issue 34): its cost
+    const loop::LoopTiming& lt = lc->timing();
+    const double frames = result.frames > 0 ? double(result.frames) : 1.0;
+    j["loop_closing"] = {{"keyframes_processed", lt.keyframes},
+                         {"loops_closed", lt.loops},
+                         {"detect_ms_per_frame", lt.detect_ms / frames},
+                         {"detect_ms_per_keyframe", lt.keyframes > 0 ? lt.detect_ms / double(lt.keyframes) : 0.0},
+                         {"correct_ms_per_loop", lt.loops > 0 ? lt.correct_ms / double(lt.loops) : 0.0},
+                         {"global_ba_ms_per_loop", lt.loops > 0 ? lt.global_ba_ms / double(lt.loops) : 0.0},
+                         {"total_ms_per_frame", (lt.detect_ms + lt.correct_ms + lt.global_ba_ms) / frames},
+                         {"clock", "thread CPU time of the thread that ran loop closing; part of local_mapping"}};
+  }
   j["map_lines"] = loop.map().GoodLineCount();
   j["map_planes"] = loop.map().GoodPlaneCount();
   // Per method stage, CPU ms per processed frame (the papers' runtime tables; part of the modules above).

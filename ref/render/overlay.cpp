@@ -22,6 +22,7 @@ namespace {
 
 const Rgb kBlack{0, 0, 0}, kWhite{255, 255, 255}, kGrey{150, 150, 150};
 const Rgb kGtDynamic{255, 40, 40}, kGtStatic{255, 255, 255};
+const Rgb kLoop{255, 0, 255};  // loop-closure keyframe: border and banner
 // Instance colours by class id (Okabe & Ito palette, colour-blind safe).
 const Rgb kInstanceColours[] = {{230, 159, 0}, {86, 180, 233}, {0, 158, 115}, {240, 228, 66},
                                 {0, 114, 178}, {213, 94, 0}, {204, 121, 167}};
@@ -105,6 +106,21 @@ void DrawShape(Canvas& c, const OverlayShape& s) {
   if (s.has_prob) label += " p=" + FormatFixed(s.prob, 2);
   if (s.decision == 0) label += " rejected";
   c.Label(Px(s.x0) + 4, Px(s.y0) + 4, label, kWhite);
+}
+
+// A frame whose keyframe closed a loop: an 8 px magenta border and a banner at the bottom left,
+// "LOOP kf<keyframe> -> kf<loop keyframe>  moved <m> m" per loop.
+void DrawLoops(Canvas& c, const std::vector<OverlayLoop>& loops) {
+  if (loops.empty()) return;
+  c.Rect(0, 0, c.width() - 1, c.height() - 1, kLoop, 8);
+  for (size_t i = 0; i < loops.size(); ++i) {
+    const OverlayLoop& l = loops[i];
+    const std::string text = "LOOP kf" + std::to_string(l.keyframe) + " -> kf" + std::to_string(l.loop_keyframe) +
+                             "  moved " + FormatFixed(l.moved_m, 3) + " m";
+    const int y = c.height() - 14 - (Canvas::TextHeight(2) + 6) * static_cast<int>(loops.size() - i);
+    c.FillRect(10, y - 3, 10 + Canvas::TextWidth(text, 2) + 8, y + Canvas::TextHeight(2) + 2, kBlack, 200);
+    c.Text(14, y, text, kLoop, 2);
+  }
 }
 
 void DrawLegend(Canvas& c, bool gt) {
@@ -204,6 +220,7 @@ Canvas RenderOverlay(const cv::Mat& bgr, const OverlayFrame& frame, const FrameD
              static_cast<int>(lines.size()) * 16 + 6, kBlack, 170);
   for (size_t i = 0; i < lines.size(); ++i) c.Text(5, 4 + 16 * static_cast<int>(i), lines[i], kWhite);
   DrawLegend(c, gt != nullptr);
+  DrawLoops(c, frame.loops);
   return c;
 }
 

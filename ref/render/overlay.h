@@ -2,7 +2,8 @@
 // frame with every traced feature coloured by dynamic probability (viridis, legend), marker
 // shape for the decision (kept / rejected / undecided), detector instance outlines + boxes +
 // class + confidence, traced line samples and plane / pixel regions, frame index and per-stage
-// counts; optionally ground-truth dynamic labels as rings (synthetic sequences, SEQ/gt/).
+// counts, a marked border on a frame whose keyframe closed a loop; optionally ground-truth
+// dynamic labels as rings (synthetic sequences, SEQ/gt/).
 #pragma once
 #include <cstdint>
 #include <map>
@@ -47,6 +48,11 @@ struct OverlayInstanceState {  // trace records on i<frame>.<inst>
   double prob = 0;
   int decision = -1;
 };
+// A loop closed in the frame (PROB loop.transform on kf<keyframe>, ref/loop/README.md "Trace").
+struct OverlayLoop {
+  int64_t keyframe = -1, loop_keyframe = -1;
+  double moved_m = 0;  // how far the closing keyframe's centre moved
+};
 struct OverlayFrame {
   int64_t frame = -1;
   double timestamp = 0;
@@ -55,6 +61,7 @@ struct OverlayFrame {
   std::vector<OverlayShape> shapes;
   std::map<int, OverlayInstanceState> instances;
   std::vector<std::pair<std::string, int64_t>> counts;  // "stage.name", value (trace order)
+  std::vector<OverlayLoop> loops;  // drawn as a magenta frame border and a "LOOP" banner
 };
 // Frames first..last (inclusive) that the trace contains, streaming the trace from the start
 // (map-point probabilities carry over from earlier frames).

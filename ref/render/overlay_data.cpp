@@ -84,6 +84,16 @@ double InputOr(const trace::Record& r, const char* name, double fallback, bool* 
   return fallback;
 }
 
+// PROB loop.transform on kf<keyframe> with inputs loop_kf and moved_m (ref/loop/README.md).
+OverlayLoop LoopOf(const trace::Record& r) {
+  OverlayLoop l;
+  if (r.entity.size() > 2 && r.entity.compare(0, 2, "kf") == 0) l.keyframe = std::atoll(r.entity.c_str() + 2);
+  bool found = true;
+  l.loop_keyframe = static_cast<int64_t>(InputOr(r, "loop_kf", -1, &found));
+  l.moved_m = InputOr(r, "moved_m", 0, &found);
+  return l;
+}
+
 }  // namespace
 
 std::vector<OverlayFrame> CollectOverlayFrames(trace::TraceReader& reader, int64_t first, int64_t last) {
@@ -131,7 +141,9 @@ std::vector<OverlayFrame> CollectOverlayFrames(trace::TraceReader& reader, int64
         case RecordType::kProbability:
         case RecordType::kDecision: {
           const bool prob = r.type == RecordType::kProbability;
-          if (r.kind == EntityKind::kMapPoint && mp) {
+          if (r.kind == EntityKind::kKeyFrame) {
+            if (prob && r.stage == "loop.transform") of.loops.push_back(LoopOf(r));
+          } else if (r.kind == EntityKind::kMapPoint && mp) {
             const int64_t id = std::atoll(r.entity.c_str() + 2);
             if (prob) map_point_prob[id] = r.after;
             else map_point_decision[id] = r.kept ? 1 : 0;

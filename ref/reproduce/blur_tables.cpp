@@ -56,7 +56,7 @@ MethodConfig VariantConfig(const BlurVariant& v) {
 }
 
 // Paper row of a preset: (table number, row name) in 003-table1/2/3/4.csv; empty when none.
-std::pair<std::string, std::string> PaperRow(const std::string& preset) {
+std::pair<std::string, std::string> BlurPaperRow(const std::string& preset) {
   static const std::map<std::string, std::pair<std::string, std::string>> rows = {
       {"walking_xyz", {"1", "fr3/w/xyz"}},       {"walking_halfsphere", {"1", "fr3/w/half"}},
       {"walking_static", {"1", "fr3/w/static"}}, {"walking_rpy", {"1", "fr3/w/rpy"}},
@@ -67,13 +67,13 @@ std::pair<std::string, std::string> PaperRow(const std::string& preset) {
 }
 
 // One variant on one preset over the seeds.
-struct Cell {
+struct BlurCell {
   std::vector<double> rmse;  // seeds with an ATE
   int runs = 0, tracked = 0, frames = 0;
   std::vector<double> ms_extraction, ms_mask, ms_probability, ms_slam;  // per seed
 };
 
-void AddRun(const RunSummary& s, Cell& c) {
+void BlurAddRun(const RunSummary& s, BlurCell& c) {
   ++c.runs;
   c.tracked += s.tracked;
   c.frames += s.frames;
@@ -89,14 +89,14 @@ void AddRun(const RunSummary& s, Cell& c) {
   c.ms_probability.push_back(st.value("blur.probability", 0.0));
 }
 
-void CheckArgs(const BlurTableArgs& a) {
+void BlurCheckArgs(const BlurTableArgs& a) {
   if (a.table != "table1" && a.table != "table3") throw InputError("table", "unknown table '" + a.table + "'");
   CheckMatrixArgs(a.frames, a.seeds, a.detections, a.sequences, a.reuse, a.collect);
   CheckPresetList(a.sweep, "--sweep", true);
   CheckReportPaths(a.out, a.work);
 }
 
-using Grid = std::map<std::string, std::vector<Cell>>;  // preset -> variants in order
+using BlurGrid = std::map<std::string, std::vector<BlurCell>>;  // preset -> variants in order
 
 }  // namespace
 
@@ -119,9 +119,9 @@ struct BlurRun {
   blur::FusedMaskOptions mask_options;
   std::vector<int> dilations = {0, 5, 10, 20, 30};
   std::vector<double> thetas = {0.2, 0.35, 0.5, 0.7, 0.9};
-  Grid grid;
+  BlurGrid grid;
   std::map<std::string, MaskTruth> truth;            // preset -> summed over seeds
-  std::map<std::string, std::vector<Cell>> dil, th;  // sweep preset -> per value
+  std::map<std::string, std::vector<BlurCell>> dil, th;  // sweep preset -> per value
   std::vector<RunSummary> all_runs;                  // for the commits that made them
   explicit BlurRun(const BlurTableArgs& args) : a(args), variants(Variants(args.table)) {}
   // The paper's table of a preset's row.
@@ -139,9 +139,9 @@ void RunBlurMatrix(BlurRun& t) {
   auto &grid = t.grid, &dil = t.dil, &th = t.th;
   auto& truth = t.truth;
   for (const std::string& p : a.sequences) grid[p].resize(variants.size());
-  const auto add = [&](const RunSummary& s, Cell& c) {
+  const auto add = [&](const RunSummary& s, BlurCell& c) {
     t.all_runs.push_back(s);
-    AddRun(s, c);
+    BlurAddRun(s, c);
   };
   for (uint64_t seed : a.seeds) {
     Workspace ws(SeedWorkDir(a.work, seed), {a.frames, seed, a.detections, a.blur}, a.reuse,
@@ -174,7 +174,7 @@ void RunBlurMatrix(BlurRun& t) {
   }
 }
 
-void WriteIntro(const BlurRun& t, std::ostringstream& md) {
+void BlurWriteIntro(const BlurRun& t, std::ostringstream& md) {
   const BlurTableArgs& a = t.a;
   const auto& all_runs = t.all_runs;
   const std::string cmd = "dynref reproduce blur-" + a.table + " --frames " + std::to_string(a.frames) + " --seeds " +
@@ -195,7 +195,7 @@ void WriteIntro(const BlurRun& t, std::ostringstream& md) {
      << "Paper values: `reports/paper-tables/003-table*.csv`, real data.\n\n"
      << FramesTable(a.sequences, a.frames, [&] {
           std::vector<std::string> rows;  // TUM rows only: the Bonn presets do not imitate their sequences' lengths
-          for (const std::string& p : a.sequences) rows.push_back(PaperRow(p).first == "1" ? PaperRow(p).second : "");
+          for (const std::string& p : a.sequences) rows.push_back(BlurPaperRow(p).first == "1" ? BlurPaperRow(p).second : "");
           return rows;
         }())
      << "\n";
@@ -213,15 +213,15 @@ void WriteAteTable(BlurRun& t, std::ostringstream& md, const std::vector<std::st
   for (const BlurVariant& v : variants) md << "---|" << (v.paper.empty() ? "" : "---|");
   md << "---|\n";
   for (const std::string& preset : presets) {
-    const auto [table, row] = PaperRow(preset);
+    const auto [table, row] = BlurPaperRow(preset);
     const PaperTable& pt = t.PaperFor(table);
     md << "| " << preset << (row.empty() ? "" : " (" + row + ")") << " |";
-    for (const Cell& c : grid[preset]) md << " " << MeanSd(c.rmse) << " |";
+    for (const BlurCell& c : grid[preset]) md << " " << MeanSd(c.rmse) << " |";
     for (const BlurVariant& v : variants)
       if (!v.paper.empty())
         md << " " << Num(pt.Cell(row, v.paper + " RMSE"), 4) << " / " << Num(pt.Cell(row, v.paper + " S.D."), 4) << " |";
     int tracked = 0, frames = 0;
-    for (const Cell& c : grid[preset]) tracked += c.tracked, frames += c.frames;
+    for (const BlurCell& c : grid[preset]) tracked += c.tracked, frames += c.frames;
     md << " " << Pct(tracked, frames) << " % |\n";
   }
 }
@@ -229,7 +229,7 @@ void WriteAteTable(BlurRun& t, std::ostringstream& md, const std::vector<std::st
 void WriteTable1(BlurRun& t, std::ostringstream& md) {
   const BlurTableArgs& a = t.a;
   std::vector<std::string> tum, bonn;
-  for (const std::string& p : a.sequences) (PaperRow(p).first == "2" || p == "synchronous" || p == "moving_box" ? bonn : tum).push_back(p);
+  for (const std::string& p : a.sequences) (BlurPaperRow(p).first == "2" || p == "synchronous" || p == "moving_box" ? bonn : tum).push_back(p);
   md << "## ATE RMSE (m): TUM analogues (paper Table 1)\n\n";
   WriteAteTable(t, md, tum);
   md << "\n## ATE RMSE (m): Bonn analogues (paper Table 2; synchronous and moving_box have no paper row)\n\n";
@@ -237,7 +237,7 @@ void WriteTable1(BlurRun& t, std::ostringstream& md) {
 }
 
 // Table 4: per-module CPU ms per frame of the full method.
-void WriteModuleTimes(BlurRun& t, std::ostringstream& md) {
+void BlurWriteModuleTimes(BlurRun& t, std::ostringstream& md) {
   const BlurTableArgs& a = t.a;
   auto& grid = t.grid;
   const PaperTable& p4 = t.p4;
@@ -248,9 +248,9 @@ void WriteModuleTimes(BlurRun& t, std::ostringstream& md) {
      << "| Sequence | ORB extraction | Compensation + Fusion | Probability | Others | Total | paper ORB | paper Comp. | paper Fusion | paper Prob. | paper Others | paper Total |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const std::string& preset : a.sequences) {
-    const Cell& c = grid[preset][0];
+    const BlurCell& c = grid[preset][0];
     const double ex = Mean(c.ms_extraction), mk = Mean(c.ms_mask), pr = Mean(c.ms_probability), sl = Mean(c.ms_slam);
-    const std::string row = PaperRow(preset).second;
+    const std::string row = BlurPaperRow(preset).second;
     md << "| " << preset << " | " << Num(ex, 1) << " | " << Num(mk, 1) << " | " << Num(pr, 1) << " | "
        << Num(sl - ex - mk - pr, 1) << " | " << Num(sl, 1) << " |";
     for (const char* col : {"ORB Extraction", "Compensation", "Fusion", "Probability", "Others", "Total"})
@@ -297,7 +297,7 @@ void WriteSweeps(BlurRun& t, std::ostringstream& md) {
     md << "\n";
     for (const auto& [preset, cs] : *cells) {
       md << "| " << preset << " |";
-      for (const Cell& c : cs) md << " " << MeanSd(c.rmse) << " |";
+      for (const BlurCell& c : cs) md << " " << MeanSd(c.rmse) << " |";
       md << "\n";
     }
   }
@@ -324,7 +324,7 @@ void FinishBlurReport(BlurRun& t, std::ostringstream& md) {
     if (variants[v].paper.empty()) continue;
     PaperSeries s{"paper " + variants[v].paper, {}, v};
     for (const std::string& preset : a.sequences) {
-      const auto [table, row] = PaperRow(preset);
+      const auto [table, row] = BlurPaperRow(preset);
       const PaperTable& pt = a.table == "table3" ? p3 : (table == "2" ? p2 : p1);
       s.per_group.push_back(pt.Cell(row, variants[v].paper + " RMSE"));
     }
@@ -336,7 +336,7 @@ void FinishBlurReport(BlurRun& t, std::ostringstream& md) {
 }  // namespace
 
 int RunBlurTable(const BlurTableArgs& a) {
-  CheckArgs(a);
+  BlurCheckArgs(a);
   BlurRun t(a);
   t.p1 = ReadPaperTable(PaperTableDir() + "/003-table1.csv");
   t.p2 = ReadPaperTable(PaperTableDir() + "/003-table2.csv");
@@ -352,13 +352,13 @@ int RunBlurTable(const BlurTableArgs& a) {
   }();
   RunBlurMatrix(t);
   std::ostringstream md;
-  WriteIntro(t, md);
+  BlurWriteIntro(t, md);
   if (a.table == "table1") {
     WriteTable1(t, md);
   } else {
     md << "## Ablation: ATE RMSE (m) (paper Table 3)\n\n";
     WriteAteTable(t, md, a.sequences);
-    WriteModuleTimes(t, md);
+    BlurWriteModuleTimes(t, md);
     WriteMaskTruth(t, md);
     WriteSweeps(t, md);
   }

@@ -18,11 +18,11 @@ namespace dynref::reproduce {
 namespace {
 
 // Table 6 columns in the paper's order (A + B is not reported) and their dynref config.
-struct Variant {
+struct EpiAblationVariant {
   std::string config, label, paper6;
 };
-const std::vector<Variant>& AblationVariants() {
-  static const std::vector<Variant> v = {{"orb", "None (orb)", "None"},        {"epi_A", "A (epi_A)", "A"},
+const std::vector<EpiAblationVariant>& AblationVariants() {
+  static const std::vector<EpiAblationVariant> v = {{"orb", "None (orb)", "None"},        {"epi_A", "A (epi_A)", "A"},
                                          {"epi_B", "B (epi_B)", "B"},           {"epi_C", "C (epi_C)", "C"},
                                          {"epi", "A + C (epi)", "A + C"},       {"epi_BC", "B + C (epi_BC)", "B + C"},
                                          {"epi_ALL", "ALL (epi_ALL)", "ALL"}};
@@ -86,14 +86,14 @@ double Table3Cell(const PaperTable& t, const PaperNames& n, const std::string& s
   return std::nan("");
 }
 
-struct Cell {
+struct EpiSlamCell {
   std::vector<double> rmse, mean, median, sd;
   int tracked = 0, frames = 0;
   std::map<std::string, std::vector<double>> ms;
   RunSummary counts;  // rejection and mask counts summed over seeds
 };
 
-void AddRun(const RunSummary& s, Cell& c) {
+void EpiSlamAddRun(const RunSummary& s, EpiSlamCell& c) {
   c.tracked += s.tracked;
   c.frames += s.frames;
   if (s.has_ate) {
@@ -104,10 +104,10 @@ void AddRun(const RunSummary& s, Cell& c) {
   if (s.has_pr) AddRejectionCounts(c.counts, s);
 }
 
-std::string Tracked(const Cell& c) { return Pct(c.tracked, c.frames) + " %"; }
+std::string EpiSlamTracked(const EpiSlamCell& c) { return Pct(c.tracked, c.frames) + " %"; }
 
 // ATE RMSE mean ± S.D., or why there is none: no run of the cell ever initialised.
-std::string AteCell(const Cell& c) {
+std::string AteCell(const EpiSlamCell& c) {
   if (c.rmse.empty() && c.frames > 0 && c.tracked == 0) return "never initialised";
   return MeanSd(c.rmse);
 }
@@ -128,8 +128,8 @@ struct EpiSlam {
   PaperTable p3, p4, p5, p6, p7;
   std::map<std::string, MethodConfig> cfg;
   // grid[lighting][preset][config]
-  std::map<std::string, std::map<std::string, std::map<std::string, Cell>>> grid;
-  std::map<std::string, std::map<std::string, Cell>> timing;  // lighting -> config -> run at trace level frames
+  std::map<std::string, std::map<std::string, std::map<std::string, EpiSlamCell>>> grid;
+  std::map<std::string, std::map<std::string, EpiSlamCell>> timing;  // lighting -> config -> run at trace level frames
   std::vector<RunSummary> all_runs;
   explicit EpiSlam(const EpiSlamTableArgs& args) : a(args) {}
 };
@@ -161,24 +161,24 @@ void RunEpiSlamMatrix(EpiSlam& t) {
       for (const std::string& preset : a.sequences) {
         const std::string seq = ws.EnsureSequence(preset);
         const bool ablation = std::count(a.ablation_sequences.begin(), a.ablation_sequences.end(), preset) > 0;
-        for (const Variant& v : AblationVariants()) {
+        for (const EpiAblationVariant& v : AblationVariants()) {
           if (!ablation && v.config != "orb" && v.config != "epi" && v.config != "epi_ALL") continue;
           ws.set_stage_trace_level(HasModuleC(cfg.at(v.config)) ? "full" : "frames");
           all_runs.push_back(ws.Run(seq, preset + "/" + v.config, cfg.at(v.config), v.label));
-          AddRun(all_runs.back(), grid[l.name][preset][v.config]);
+          EpiSlamAddRun(all_runs.back(), grid[l.name][preset][v.config]);
         }
         if (preset == a.timing_sequence) {
           ws.set_stage_trace_level("frames");
           for (const std::string& c : TimedConfigs()) {
             all_runs.push_back(ws.Run(seq, preset + "/" + c + "_timing", cfg.at(c), c + ", timing"));
-            AddRun(all_runs.back(), timing[l.name][c]);
+            EpiSlamAddRun(all_runs.back(), timing[l.name][c]);
           }
         }
       }
     }
 }
 
-void WriteIntro(const EpiSlam& t, std::ostringstream& md) {
+void EpiSlamWriteIntro(const EpiSlam& t, std::ostringstream& md) {
   const EpiSlamTableArgs& a = t.a;
   const auto& all_runs = t.all_runs;
   std::string seq_text;
@@ -220,11 +220,11 @@ void WriteTable3(EpiSlam& t, std::ostringstream& md) {
      << "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const std::string& p : a.sequences)
     for (const Lighting& l : Lightings()) {
-      const Cell& c = grid[l.name][p]["epi"];
+      const EpiSlamCell& c = grid[l.name][p]["epi"];
       md << "| " << p << " | " << l.label << " | " << Num(Mean(c.mean)) << " | " << Num(Mean(c.median)) << " | "
          << Num(Mean(c.rmse)) << " | " << Num(Mean(c.sd)) << " |";
       for (const char* stat : {"Mean", "Med", "Rmse", "Std"}) md << " " << Num(Table3Cell(p3, Names(p), stat)) << " |";
-      md << " " << Tracked(c) << " |\n";
+      md << " " << EpiSlamTracked(c) << " |\n";
     }
 }
 
@@ -242,8 +242,8 @@ void WriteTables45(EpiSlam& t, std::ostringstream& md) {
       auto& g = grid[l.name][p];
       md << "| " << p << " | " << l.label << " | " << AteCell(g["orb"]) << " | " << AteCell(g["epi"]) << " | "
          << AteCell(g["epi_ALL"]) << " | " << Num(paper.Cell(n.table45, "ORB-SLAM3 [8]")) << " | "
-         << Num(paper.Cell(n.table45, "OURS")) << " | " << Tracked(g["orb"]) << " / " << Tracked(g["epi"]) << " / "
-         << Tracked(g["epi_ALL"]) << " |\n";
+         << Num(paper.Cell(n.table45, "OURS")) << " | " << EpiSlamTracked(g["orb"]) << " / " << EpiSlamTracked(g["epi"]) << " / "
+         << EpiSlamTracked(g["epi_ALL"]) << " |\n";
     }
   }
 }
@@ -258,7 +258,7 @@ void WriteAblation(EpiSlam& t, std::ostringstream& md) {
           "MNN2), C = per-mask epipolar vote. ATE RMSE in metres, mean ± S.D. over the seeds. 'never initialised': no "
           "frame had the > 500 keypoints with depth ORB-SLAM2's RGB-D start needs (SIFT finds about 60-110 keypoints "
           "per dark frame without the enhancement).\n\n| Sequence | lighting |";
-    for (const Variant& v : AblationVariants()) md << " " << v.label << " |";
+    for (const EpiAblationVariant& v : AblationVariants()) md << " " << v.label << " |";
     for (const char* col : {"None", "A", "B", "C", "A + C", "B + C", "ALL"}) md << " paper " << col << " |";
     md << "\n|---|---|";
     for (size_t i = 0; i < AblationVariants().size() + 7; ++i) md << "---|";
@@ -266,7 +266,7 @@ void WriteAblation(EpiSlam& t, std::ostringstream& md) {
     for (const std::string& p : a.ablation_sequences)
       for (const Lighting& l : Lightings()) {
         md << "| " << p << " | " << l.label << " |";
-        for (const Variant& v : AblationVariants()) md << " " << AteCell(grid[l.name][p][v.config]) << " |";
+        for (const EpiAblationVariant& v : AblationVariants()) md << " " << AteCell(grid[l.name][p][v.config]) << " |";
         for (const char* col : {"None", "A", "B", "C", "A + C", "B + C", "ALL"})
           md << " " << Num(p6.Cell(Names(p).table6, col)) << " |";
         md << "\n";
@@ -325,7 +325,7 @@ void WriteTiming(EpiSlam& t, std::ostringstream& md) {
         "local mapping + BA |\n|---|---|---|---|---|---|---|---|\n";
   for (const std::string& config : TimedConfigs())
   for (const Lighting& l : Lightings()) {
-    const Cell& c = timing[l.name][config];
+    const EpiSlamCell& c = timing[l.name][config];
     const auto ms = [&](const std::string& m) { return c.ms.count(m) ? Mean(c.ms.at(m)) : std::nan(""); };
     md << "| " << config << " | " << l.label << " | " << Num(ms("stage:epi.enhance"), 1) << " | " << Num(ms("extraction"), 1) << " | "
        << Num(ms("stage:epi.vote"), 1) << " | " << Num(ms("tracking"), 1) << " | "
@@ -371,10 +371,10 @@ int RunEpiSlamTable(const EpiSlamTableArgs& a) {
   t.p7 = ReadPaperTable(PaperTableDir() + "/004-table7.csv");
   MakeReportFolders(a.out, a.work);
   // The export writes keyframe images: not needed for the tables.
-  for (const Variant& v : AblationVariants()) t.cfg.emplace(v.config, LoadConfigWithout(v.config, {"epi.nerf"}));
+  for (const EpiAblationVariant& v : AblationVariants()) t.cfg.emplace(v.config, LoadConfigWithout(v.config, {"epi.nerf"}));
   RunEpiSlamMatrix(t);
   std::ostringstream md;
-  WriteIntro(t, md);
+  EpiSlamWriteIntro(t, md);
   WriteTable3(t, md);
   WriteTables45(t, md);
   WriteAblation(t, md);

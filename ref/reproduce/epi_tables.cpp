@@ -83,7 +83,7 @@ int Verify(const cv::Point2f& a, const cv::Point2f& b, const cv::Mat& depth1, co
   return std::hypot(u - b.x, v - b.y) < gate ? 1 : 0;
 }
 
-void CheckArgs(const EpiTableArgs& a) {
+void EpiCheckArgs(const EpiTableArgs& a) {
   if (a.table != "table1" && a.table != "table2") throw InputError("table", "unknown table '" + a.table + "'");
   if (a.frames < 10) throw InputError("--frames", "need at least 10 frames, got " + std::to_string(a.frames));
   if (a.gap < 1 || a.gap >= a.frames) throw InputError("--gap", "must be in 1..frames-1");
@@ -137,7 +137,7 @@ struct Matching {
   std::map<std::string, std::pair<std::vector<double>, std::vector<double>>> distances;
 };
 
-void WriteIntro(const EpiRun& r, std::ostringstream& md) {
+void EpiWriteIntro(const EpiRun& r, std::ostringstream& md) {
   const EpiTableArgs& a = r.a;
   const std::string cmd = "dynref reproduce epi-" + a.table + " --frames " + std::to_string(a.frames) + " --seeds " +
                           SeedListText(a.seeds) + (a.table == "table2" ? " --gap " + std::to_string(a.gap) + " --features " +
@@ -321,7 +321,7 @@ void WritePaperTable2(const PaperTable& paper, std::ostringstream& md) {
 }  // namespace
 
 int RunEpiTable(const EpiTableArgs& a) {
-  CheckArgs(a);
+  EpiCheckArgs(a);
   MakeReportFolders(a.out, a.work);
   EpiRun r(a);
   r.paper = ReadPaperTable(PaperTableDir() + "/004-table" + (a.table == "table1" ? "1" : "2") + ".csv");
@@ -330,7 +330,7 @@ int RunEpiTable(const EpiTableArgs& a) {
     if (sc.name == "epi.enhance") r.enhance = epi::EnhanceOptionsFromParams(sc.params);
   r.plot_png = (fs::path(a.out).parent_path() / (fs::path(a.out).stem().string() + ".png")).string();
   std::ostringstream md;
-  WriteIntro(r, md);
+  EpiWriteIntro(r, md);
   if (a.table == "table1") {
     WriteKeypointTable(r, md);
   } else {

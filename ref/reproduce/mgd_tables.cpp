@@ -42,7 +42,7 @@ const std::vector<MgdVariant>& CueVariants() {
 }
 
 // Paper row (000-table2/4/5) of a preset; "" when none.
-std::string PaperRow(const std::string& preset) {
+std::string MgdPaperRow(const std::string& preset) {
   static const std::map<std::string, std::string> rows = {
       {"walking_xyz", "w_xyz"},   {"walking_static", "w_static"},   {"walking_rpy", "w_rpy"},
       {"walking_halfsphere", "w_half"}, {"sitting_xyz", "s_xyz"},   {"sitting_static", "s_static"},
@@ -51,14 +51,14 @@ std::string PaperRow(const std::string& preset) {
   return it == rows.end() ? std::string() : it->second;
 }
 
-struct Cell {
+struct MgdCell {
   std::vector<double> ate, rpe;  // seeds with a value
   int tracked = 0, frames = 0;
   std::map<std::string, std::vector<double>> ms;  // module -> per seed
   RunSummary pr;                                   // precision/recall counts summed over seeds
 };
 
-void AddRun(const RunSummary& s, Cell& c) {
+void MgdAddRun(const RunSummary& s, MgdCell& c) {
   c.tracked += s.tracked;
   c.frames += s.frames;
   if (s.has_ate) c.ate.push_back(s.ate.rmse);
@@ -73,13 +73,13 @@ std::string Prf(int64_t tp, int64_t fp, int64_t fn) {
   return Pct(tp, tp + fp) + " | " + Pct(tp, tp + fn) + " | " + (tp + fp + fn > 0 ? Num(100.0 * F1(tp, fp, fn), 1) : "-");
 }
 
-void CheckArgs(const MgdTableArgs& a) {
+void MgdCheckArgs(const MgdTableArgs& a) {
   if (a.table != "table2" && a.table != "table4") throw InputError("table", "unknown table '" + a.table + "'");
   CheckMatrixArgs(a.frames, a.seeds, a.detections, a.sequences, a.reuse, a.collect);
   CheckReportPaths(a.out, a.work);
 }
 
-using Grid = std::map<std::string, std::vector<Cell>>;  // preset -> variants in order
+using MgdGrid = std::map<std::string, std::vector<MgdCell>>;  // preset -> variants in order
 
 }  // namespace
 
@@ -103,7 +103,7 @@ struct MgdRun {
   const std::vector<MgdVariant>& main = MainVariants();
   const std::vector<MgdVariant>& cues = CueVariants();
   std::vector<MethodConfig> main_cfg, cue_cfg;
-  Grid grid, cue_grid;
+  MgdGrid grid, cue_grid;
   std::vector<RunSummary> all_runs;
   explicit MgdRun(const MgdTableArgs& args) : a(args) {}
 };
@@ -125,20 +125,20 @@ void RunMgdMatrix(MgdRun& t) {
       ws.set_stage_trace_level("frames");
       for (size_t v = 0; v < main.size(); ++v) {
         all_runs.push_back(ws.Run(seq, preset + "/" + main[v].config, main_cfg[v], main[v].label));
-        AddRun(all_runs.back(), grid[preset][v]);
+        MgdAddRun(all_runs.back(), grid[preset][v]);
       }
       if (!ablations) continue;
       ws.set_stage_trace_level("full");
       ws.set_keep_full_traces(false);
       for (size_t v = 0; v < cues.size(); ++v) {
         all_runs.push_back(ws.Run(seq, preset + "/" + cues[v].config + "_full", cue_cfg[v], cues[v].label));
-        AddRun(all_runs.back(), cue_grid[preset][v]);
+        MgdAddRun(all_runs.back(), cue_grid[preset][v]);
       }
     }
   }
 }
 
-void WriteIntro(const MgdRun& t, std::ostringstream& md) {
+void MgdWriteIntro(const MgdRun& t, std::ostringstream& md) {
   const MgdTableArgs& a = t.a;
   const auto& all_runs = t.all_runs;
   const std::string cmd = "dynref reproduce mgd-" + a.table + " --frames " + std::to_string(a.frames) + " --seeds " +
@@ -158,7 +158,7 @@ void WriteIntro(const MgdRun& t, std::ostringstream& md) {
      << "Paper values: `reports/paper-tables/000-table*.csv`, real data.\n\n"
      << FramesTable(a.sequences, a.frames, [&] {
           std::vector<std::string> rows;
-          for (const std::string& p : a.sequences) rows.push_back(PaperRow(p));
+          for (const std::string& p : a.sequences) rows.push_back(MgdPaperRow(p));
           return rows;
         }())
      << "\n";
@@ -177,10 +177,10 @@ void WriteValueTable(MgdRun& t, std::ostringstream& md, bool rpe, const PaperTab
   for (size_t i = 0; i < main.size() + paper_cols.size() + 2; ++i) md << "---|";
   md << "\n";
   for (const std::string& preset : a.sequences) {
-    const std::vector<Cell>& cs = grid[preset];
-    md << "| " << preset << (PaperRow(preset).empty() ? "" : " (" + PaperRow(preset) + ")") << " |";
-    for (const Cell& c : cs) md << " " << MeanSd(rpe ? c.rpe : c.ate) << " |";
-    for (const std::string& col : paper_cols) md << " " << Num(paper.Cell(PaperRow(preset), col), 3) << " |";
+    const std::vector<MgdCell>& cs = grid[preset];
+    md << "| " << preset << (MgdPaperRow(preset).empty() ? "" : " (" + MgdPaperRow(preset) + ")") << " |";
+    for (const MgdCell& c : cs) md << " " << MeanSd(rpe ? c.rpe : c.ate) << " |";
+    for (const std::string& col : paper_cols) md << " " << Num(paper.Cell(MgdPaperRow(preset), col), 3) << " |";
     md << " " << Num(Mean(rpe ? cs[1].rpe : cs[1].ate) / Mean(rpe ? cs[2].rpe : cs[2].ate), 1) << "x |";
     for (size_t v = 0; v < cs.size(); ++v)
       md << (v ? " / " : " ") << Pct(cs[v].tracked, cs[v].frames) << " %";
@@ -206,7 +206,7 @@ void WriteCueAblations(MgdRun& t, std::ostringstream& md) {
   std::vector<RunSummary> total(cues.size());
   for (const std::string& preset : a.sequences)
     for (size_t v = 0; v < cues.size(); ++v) {
-      const Cell& c = cue_grid[preset][v];
+      const MgdCell& c = cue_grid[preset][v];
       const RunSummary& r = c.pr;
       md << "| " << preset << " | " << cues[v].label << " | " << MeanSd(c.ate) << " | "
          << Prf(r.tp, r.fp, r.fn) << " | " << Prf(r.part_tp, r.part_fp, r.part_fn) << " | "
@@ -229,7 +229,7 @@ void WriteCueAblations(MgdRun& t, std::ostringstream& md) {
 }
 
 // Table 6: per-module CPU ms per frame of mgd.
-void WriteModuleTimes(MgdRun& t, std::ostringstream& md) {
+void MgdWriteModuleTimes(MgdRun& t, std::ostringstream& md) {
   const MgdTableArgs& a = t.a;
   auto& grid = t.grid;
   const PaperTable& p6 = t.p6;
@@ -243,7 +243,7 @@ void WriteModuleTimes(MgdRun& t, std::ostringstream& md) {
         "local mapping + BA | paper extraction | paper removal | paper detection | paper tracking total |\n"
      << "|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const std::string& preset : a.sequences) {
-    const Cell& c = grid[preset][2];
+    const MgdCell& c = grid[preset][2];
     const auto ms = [&](const char* m) { return c.ms.count(m) ? Mean(c.ms.at(m)) : std::nan(""); };
     const double ex = ms("extraction"), li = ms("lines"), pl = ms("planes"), st = ms("stages"), tr = ms("tracking");
     md << "| " << preset << " | " << Num(ex - li - pl, 1) << " | " << Num(li, 1) << " | " << Num(pl, 1) << " | "
@@ -271,7 +271,7 @@ void FinishMgdReport(MgdRun& t, std::ostringstream& md) {
     const std::string col = a.table == "table2" ? main[v].paper2 : main[v].paper4;
     if (col.empty()) continue;
     PaperSeries p{"paper " + col, {}, v};
-    for (const std::string& preset : a.sequences) p.per_group.push_back((a.table == "table2" ? p2 : p4).Cell(PaperRow(preset), col));
+    for (const std::string& preset : a.sequences) p.per_group.push_back((a.table == "table2" ? p2 : p4).Cell(MgdPaperRow(preset), col));
     paper.push_back(p);
   }
   FinishAteReport(md.str(), a.sequences, ours, paper, 0, SeedListText(a.seeds), a.out);
@@ -280,7 +280,7 @@ void FinishMgdReport(MgdRun& t, std::ostringstream& md) {
 }  // namespace
 
 int RunMgdTable(const MgdTableArgs& a) {
-  CheckArgs(a);
+  MgdCheckArgs(a);
   MgdRun t(a);
   t.p2 = ReadPaperTable(PaperTableDir() + "/000-table2.csv");
   t.p4 = ReadPaperTable(PaperTableDir() + "/000-table4.csv");
@@ -292,7 +292,7 @@ int RunMgdTable(const MgdTableArgs& a) {
   for (const MgdVariant& v : t.cues) t.cue_cfg.push_back(LoadConfigWithout(v.config, {}));
   RunMgdMatrix(t);
   std::ostringstream md;
-  WriteIntro(t, md);
+  MgdWriteIntro(t, md);
   if (a.table == "table2") {
     md << "## ATE RMSE (m) (paper Table 2)\n\n";
     WriteValueTable(t, md, false, t.p2, kPaperCols2);
@@ -305,7 +305,7 @@ int RunMgdTable(const MgdTableArgs& a) {
        << "dynref: translational RPE RMSE in m over 1 s (evaluate_rpe.py --fixed_delta --delta 1). The paper prints "
        << "'rad' and does not state its interval (see the notes), so only the ordering of the columns compares.\n\n";
     WriteValueTable(t, md, true, t.p5, kPaperCols4);
-    WriteModuleTimes(t, md);
+    MgdWriteModuleTimes(t, md);
     md << PaperNotes("000-table4.csv", t.p4.notes) << PaperNotes("000-table5.csv", t.p5.notes)
        << PaperNotes("000-table6.csv", t.p6.notes);
   }

@@ -53,7 +53,7 @@ const std::vector<std::pair<std::string, std::string>>& StageFiles() {
 }
 
 // Paper row (002-filesizes.csv "Sequence") of a preset; empty when the paper gives no size.
-std::string PaperRow(const std::string& preset) {
+std::string SemanticPaperRow(const std::string& preset) {
   static const std::map<std::string, std::string> rows = {
       {"sitting_halfsphere", "fr3/s/half"}, {"sitting_static", "fr3/s/static"}, {"walking_halfsphere", "fr3/w/half"},
       {"walking_rpy", "fr3/w/rpy"},         {"walking_static", "fr3/w/static"}, {"static_rpy", "fr2/rpy"}};
@@ -106,12 +106,12 @@ NonPriorCounts ReplayNonPrior(const std::string& seq_dir, const std::string& det
   return c;
 }
 
-void CheckArgs(const SemanticTableArgs& a) {
+void SemanticCheckArgs(const SemanticTableArgs& a) {
   CheckMatrixArgs(a.frames, a.seeds, a.detections, a.sequences, a.reuse, a.collect);
   CheckReportPaths(a.out, a.work);
 }
 
-struct Cell {  // one preset, over seeds
+struct SemanticCell {  // one preset, over seeds
   std::map<std::string, std::vector<double>> mb;      // stage file -> MB per seed (semantic run)
   std::vector<MapEvalResult> quality[3];               // per map variant, per seed
   NonPriorCounts non_prior;
@@ -128,7 +128,7 @@ struct SemanticRun {
   PaperTable paper;
   std::vector<MethodConfig> configs;  // MapVariants() in order
   semantic::MaskOptions mask_options;
-  std::map<std::string, Cell> cells;
+  std::map<std::string, SemanticCell> cells;
   explicit SemanticRun(const SemanticTableArgs& args) : a(args) {}
 };
 
@@ -138,7 +138,7 @@ void RunPreset(SemanticRun& t, Workspace& ws, const std::string& preset) {
   const SemanticTableArgs& a = t.a;
   const auto& configs = t.configs;
   const std::string seq = ws.EnsureSequence(preset);
-  Cell& c = t.cells[preset];
+  SemanticCell& c = t.cells[preset];
   const TumTrajectory gt = ReadTumTrajectory(seq + "/groundtruth.txt");
   const dense::TriangleMesh mesh = dense::ReadPlyMesh(seq + "/gt/static_scene.ply");
   const MeshDistance to_static(mesh, MapEvalOptions{}.sample_m);  // one index for the three maps
@@ -161,7 +161,7 @@ void RunPreset(SemanticRun& t, Workspace& ws, const std::string& preset) {
   c.non_prior.tp += n.tp, c.non_prior.fp += n.fp, c.non_prior.fn += n.fn, c.non_prior.tn += n.tn;
 }
 
-void WriteIntro(SemanticRun& t, std::ostringstream& md) {
+void SemanticWriteIntro(SemanticRun& t, std::ostringstream& md) {
   const SemanticTableArgs& a = t.a;
   const auto& cells = t.cells;
   std::vector<RunSummary> all;
@@ -185,7 +185,7 @@ void WriteIntro(SemanticRun& t, std::ostringstream& md) {
      << "(Sec. 4.4 text; only the voxel step is quantified there).\n\n"
      << FramesTable(a.sequences, a.frames, [&] {
           std::vector<std::string> rows;
-          for (const std::string& p : a.sequences) rows.push_back(p == "static_rpy" ? "" : PaperRow(p));  // fr2: other length
+          for (const std::string& p : a.sequences) rows.push_back(p == "static_rpy" ? "" : SemanticPaperRow(p));  // fr2: other length
           return rows;
         }());
 }
@@ -200,7 +200,7 @@ void WriteFileSizes(SemanticRun& t, std::ostringstream& md) {
   for (size_t i = 0; i < StageFiles().size() + 6; ++i) md << "---|";
   md << "\n";
   for (const std::string& preset : a.sequences) {
-    const Cell& c = cells[preset];
+    const SemanticCell& c = cells[preset];
     md << "| " << preset << " |";
     for (const auto& [file, what] : StageFiles()) md << " " << MeanSd(c.mb.at(file), file.find("grid") != std::string::npos ? 3 : 2) << " |";
     std::vector<double> ratio, sor, ot;
@@ -211,7 +211,7 @@ void WriteFileSizes(SemanticRun& t, std::ostringstream& md) {
       ot.push_back(100.0 * c.mb.at("semantic_map.ot")[k] / raw);
     }
     // 002-filesizes.csv rows start with the dataset ("TUM"): the sequence is the second cell.
-    const std::string row = PaperRow(preset);
+    const std::string row = SemanticPaperRow(preset);
     const auto cell = [&](size_t column) {
       for (const auto& r : paper.ordered)
         if (!row.empty() && r.size() > column && r[1] == row) return std::strtod(r[column].c_str(), nullptr);
@@ -290,7 +290,7 @@ void PlotGhosts(SemanticRun& t, std::ostringstream& md) {
 }  // namespace
 
 int RunSemanticTable(const SemanticTableArgs& a) {
-  CheckArgs(a);
+  SemanticCheckArgs(a);
   SemanticRun t(a);
   t.paper = ReadPaperTable(PaperTableDir() + "/002-filesizes.csv");
   const fs::path report_dir = fs::path(a.out).parent_path();
@@ -309,7 +309,7 @@ int RunSemanticTable(const SemanticTableArgs& a) {
     for (const std::string& preset : a.sequences) RunPreset(t, ws, preset);
   }
   std::ostringstream md;
-  WriteIntro(t, md);
+  SemanticWriteIntro(t, md);
   WriteFileSizes(t, md);
   WriteMapQuality(t, md);
   WriteNonPrior(t, md);

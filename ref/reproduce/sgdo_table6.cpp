@@ -97,7 +97,7 @@ std::vector<double> Rmse(const std::vector<RunSummary>& runs) {
   return v;
 }
 
-std::string Tracked(const std::vector<RunSummary>& runs) {
+std::string Sgdo6Tracked(const std::vector<RunSummary>& runs) {
   int tracked = 0, frames = 0;
   for (const RunSummary& s : runs) tracked += s.tracked, frames += s.frames;
   return std::to_string(tracked) + "/" + std::to_string(frames);
@@ -244,7 +244,7 @@ void PlotTable6(Table6& t) {
 }
 
 // Step 4, write: the report's sections, in order.
-void WriteIntro(const Table6& t, std::ostringstream& md) {
+void Sgdo6WriteIntro(const Table6& t, std::ostringstream& md) {
   const Table6Args& a = t.a;
   std::vector<RunSummary> all_runs;
   for (const auto& m : {&t.results, &t.sens})
@@ -295,7 +295,7 @@ void WriteAteTables(Table6& t, std::ostringstream& md) {
       std::vector<double> sd;
       for (const RunSummary& s : runs)
         if (s.has_ate) sd.push_back(s.ate.std);
-      md << " " << Num(Mean(sd)) << " (" << Tracked(runs) << ") |";
+      md << " " << Num(Mean(sd)) << " (" << Sgdo6Tracked(runs) << ") |";
     }
     md << "\n| " << PaperRows(preset).first << " (paper) |";
     for (const Variant& v : t.variants) md << " " << Num(t.PaperCell(v, preset, "S.D.")) << " |";
@@ -381,7 +381,7 @@ void WriteSensitivity(const Table6& t, std::ostringstream& md) {
   md << "\n";
   for (const auto& [preset, cells] : t.sens) {
     md << "| " << preset << " |";
-    for (const auto& runs : cells) md << " " << MeanSd(Rmse(runs)) << " (" << Tracked(runs) << ") |";
+    for (const auto& runs : cells) md << " " << MeanSd(Rmse(runs)) << " (" << Sgdo6Tracked(runs) << ") |";
     md << "\n";
   }
   md << "\nlambda = 0 gives omega = 1 (weights off, = S+G+D); the defaults are eta 0.1, lambda 100 = 1/eta^2.\n";
@@ -439,7 +439,7 @@ int RunSgdoTable6(const Table6Args& a) {
   RenderOverlay(t);
   PlotTable6(t);
   std::ostringstream md;
-  WriteIntro(t, md);
+  Sgdo6WriteIntro(t, md);
   WriteAteTables(t, md);
   WriteReduction(t, md);
   WriteRejections(t, md);

@@ -29,7 +29,7 @@ namespace {
 constexpr size_t kOrb = 0, kSgdo = 1;
 const char* const kConfigs[] = {"orb", "sgdo_nodense"};  // sgdo without its dense map (no effect on tracking)
 
-using Cell = std::vector<RunSummary>;  // one run per seed
+using SgdoCell = std::vector<RunSummary>;  // one run per seed
 
 // The statistic a table reports for one run; false when the run has none.
 bool Stats(const std::string& table, const RunSummary& s, ErrorStats& out) {
@@ -57,7 +57,7 @@ std::string MachineText() {
   return "unknown CPU";
 }
 
-void CheckArgs(const SgdoTableArgs& a) {
+void SgdoCheckArgs(const SgdoTableArgs& a) {
   const auto& t = SgdoMainTables();
   if (std::find(t.begin(), t.end(), a.table) == t.end()) throw InputError("table", "unknown table '" + a.table + "'");
   CheckMatrixArgs(a.frames, a.seeds, a.detections, a.sequences, a.reuse, a.collect);
@@ -87,7 +87,7 @@ const std::map<std::string, std::string>& Titles() {
 struct SgdoRun {
   const SgdoTableArgs& a;
   PaperTable paper, t1;
-  std::map<std::string, std::vector<Cell>> cells;  // preset -> [orb, sgdo][seed]
+  std::map<std::string, std::vector<SgdoCell>> cells;  // preset -> [orb, sgdo][seed]
   std::string stem;                                // the report's path without .md
   std::vector<std::pair<std::string, std::string>> plots;  // caption, file name beside the report
   std::map<std::string, std::string> titles = Titles();
@@ -113,7 +113,7 @@ void RunCells(SgdoRun& r) {
   }
 }
 
-void WriteIntro(SgdoRun& r, std::ostringstream& md) {
+void SgdoWriteIntro(SgdoRun& r, std::ostringstream& md) {
   const SgdoTableArgs& a = r.a;
   const auto& cells = r.cells;
   const auto& titles = r.titles;
@@ -129,7 +129,7 @@ void WriteIntro(SgdoRun& r, std::ostringstream& md) {
      << "- Runs made by dynref commit " << [&] {
           std::vector<RunSummary> all;
           for (const auto& [preset, c] : cells)
-            for (const Cell& runs : c) all.insert(all.end(), runs.begin(), runs.end());
+            for (const SgdoCell& runs : c) all.insert(all.end(), runs.begin(), runs.end());
           return RunCommits(all);
         }() << ".\n"
      << "- Sequences: `dynref synth --preset P --frames " << a.frames << " --seed S --detections " << a.detections
@@ -337,7 +337,7 @@ void WritePerSeed(SgdoRun& r, std::ostringstream& md) {
 }  // namespace
 
 int RunSgdoTable(const SgdoTableArgs& a) {
-  CheckArgs(a);
+  SgdoCheckArgs(a);
   SgdoRun r(a, ReadPaperTable(PaperTableDir() + "/001-" + a.table + ".csv"),
             ReadPaperTable(PaperTableDir() + "/001-table1.csv"));
   const fs::path report_dir = fs::path(a.out).parent_path();
@@ -346,7 +346,7 @@ int RunSgdoTable(const SgdoTableArgs& a) {
   RunCells(r);
   r.stem = (report_dir / fs::path(a.out).stem()).string();
   std::ostringstream md;
-  WriteIntro(r, md);
+  SgdoWriteIntro(r, md);
   if (a.table == "table1" || a.table == "table2" || a.table == "table3") {
     WriteStatsTable(r, md);
     PlotStatsTable(r);

@@ -1,5 +1,5 @@
 // Options of the structure landmarks (lines and planes, seed 000; issue 13). They are backbone
-// keys (ref/pipeline/backbone_options.cpp: `lines`, `planes`, `line_*`, `plane_*`), off by
+// keys (ref/pipeline/backbone_keys.cpp: `lines`, `planes`, `line_*`, `plane_*`), off by
 // default: with both off the backbone is the point-only ORB-SLAM2 one, bit for bit.
 #pragma once
 #include "features/lines.h"

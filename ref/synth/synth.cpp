@@ -94,6 +94,18 @@ void CheckReplaceable(const fs::path& target, const std::string& shown) {
                             "refusing to overwrite");
 }
 
+// The camera for --width W (0 = unchanged): every pixel quantity scaled by W / width, pixel
+// centres kept (cx' = (cx + 0.5) s - 0.5); bf = baseline * fx scales with fx, ThDepth (baselines) not.
+Camera ScaledCamera(Camera c, int width) {
+  if (width == 0 || width == c.width) return c;
+  const double s = double(width) / c.width;
+  c.fx *= s, c.fy *= s, c.bf *= s;
+  c.cx = (c.cx + 0.5) * s - 0.5, c.cy = (c.cy + 0.5) * s - 0.5;
+  c.height = c.height * width / c.width;
+  c.width = width;
+  return c;
+}
+
 bool IsReplaceableSynthTarget(const std::string& dir) {
   std::error_code ec;
   return IsAbsentOrEmptyDirectory(dir) || (fs::is_directory(dir, ec) && IsSynthOutput(dir));
@@ -106,6 +118,9 @@ void SynthOptions::Check() const {
   if (frames < 0) throw InputError("--frames", "must be >= 0 (0 = preset default)");
   if (frames > kMaxFrames)
     throw InputError("--frames", "must be <= " + std::to_string(kMaxFrames) + " (got " + std::to_string(frames) + ")");
+  if (width != 0 && (width < kMinWidth || width > 640 || width % 4 != 0))
+    throw InputError("--width", "must be 0 (640) or a multiple of 4 in " + std::to_string(kMinWidth) +
+                                    "..640 (got " + std::to_string(width) + ")");
   if (out.empty()) throw InputError("--out", "output directory required");
   if (detections != "none" && detections != "all") ProfileFor(detections);
   if (blur_subframes < 2) throw InputError("blur_subframes", "must be >= 2");
@@ -120,7 +135,7 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
   double render_ms = 0, render_cpu_ms = 0;
   const World world(GetPreset(opt.preset), opt.seed);
   const int n = opt.frames > 0 ? opt.frames : world.preset().default_frames;
-  const Camera camera = CameraPreset("synthetic");
+  const Camera camera = ScaledCamera(CameraPreset("synthetic"), opt.width);
   Intrinsics K;
   K.width = camera.width, K.height = camera.height;
   K.fx = float(camera.fx), K.fy = float(camera.fy), K.cx = float(camera.cx), K.cy = float(camera.cy);
@@ -242,13 +257,16 @@ SynthStats GenerateSequence(const SynthOptions& opt) {
   // Metadata first, the lists that make the folder readable last.
   WriteOrbSlamCameraYaml(camera, out + "/camera.yaml");
   std::ostringstream meta;
+  // --width appears only when given, so a full-size sequence's synth.yaml is unchanged.
+  const std::string width_arg = opt.width ? " --width " + std::to_string(opt.width) : "";
   meta << "# dynref synth parameters (reproduce with: dynref synth --preset " << opt.preset << " --frames " << n
        << " --seed " << opt.seed << (opt.blur ? " --blur" : "") << (opt.low_light ? " --low-light" : "")
-       << " --detections " << opt.detections << ")\n"
+       << " --detections " << opt.detections << width_arg << ")\n"
        << "generator: dynref " << DYNREF_VERSION << "\npreset: " << opt.preset << "\nframes: " << n
        << "\nseed: " << opt.seed << "\nblur: " << (opt.blur ? "true" : "false")
        << "\nlow_light: " << (opt.low_light ? "true" : "false") << "\ndetections: " << opt.detections
        << "\nblur_subframes: " << opt.blur_subframes << "\nexposure_s: " << FormatDouble17(opt.exposure_s) << "\n";
+  if (opt.width) meta << "width: " << camera.width << "\nheight: " << camera.height << "\n";
   AtomicWriteFile(out + "/synth.yaml", meta.str());
   AtomicWriteFile(out + "/gt/labels.yaml", LabelsYaml(world.scene()));
   AtomicWriteFile(out + "/gt/moving.txt", moving_txt.str());

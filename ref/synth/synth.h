@@ -11,10 +11,14 @@ namespace dynref::synth {
 // (~1260) and already ~100 GB of PNGs; a larger count is a typo, not a sequence anyone wants (and
 // it would run for days before failing on a full disk).
 constexpr int kMaxFrames = 100000;
+// Smallest --width: 64x48 is the smallest image `dynref run` accepts.
+constexpr int kMinWidth = 64;
 
 struct SynthOptions {
   std::string preset;             // see PresetNames()
   int frames = 0;                 // 0 = the preset's default length; at most kMaxFrames
+  int width = 0;                  // 0 = the camera's 640; else kMinWidth..640, a multiple of 4
+                                  // (height 3/4 of it, intrinsics scaled): cheap smoke sequences
   uint64_t seed = 1;
   bool blur = false;              // integrate sub-frame renders over the exposure
   bool low_light = false;

@@ -30,7 +30,7 @@ float ValueNoise(float x, float y, uint32_t seed) {
 
 namespace {
 
-inline float Frac(float x) { return x - std::floor(x); }
+inline float FracF(float x) { return x - std::floor(x); }
 
 Rgb Palette(uint32_t h) {
   // Saturated print colours; one of a few families so posters look designed, not noise.
@@ -62,7 +62,7 @@ Rgb Print(const Material& m, float u, float v) {
       const float wu = fu * 7.f;
       const int32_t word = int32_t(wu);
       const uint32_t hw = Hash3(iu * 16 + word, iv * 8 + row, m.seed ^ 0xABCDu);
-      if ((hw & 3u) == 0 || Frac(wu) > 0.8f) return bg;
+      if ((hw & 3u) == 0 || FracF(wu) > 0.8f) return bg;
       return (hw & 16u) ? m.c1 : Palette(h >> 12) * 0.6f;
     }
     case 3: {  // disc with ring
@@ -76,7 +76,7 @@ Rgb Print(const Material& m, float u, float v) {
       return Mix(Palette(h >> 8), Palette(h >> 16), n > 0.5f ? 1.f : 0.f) * (0.7f + 0.3f * n);
     }
     default: {  // dots
-      const float du = Frac(fu * 4) - 0.5f, dv = Frac(fv * 4) - 0.5f;
+      const float du = FracF(fu * 4) - 0.5f, dv = FracF(fv * 4) - 0.5f;
       return (du * du + dv * dv < 0.06f) ? m.c2 : bg;
     }
   }
@@ -94,7 +94,7 @@ Rgb Albedo(const Material& m, float u, float v) {
       const float speck = Hash01(int32_t(std::floor(u * 90)), int32_t(std::floor(v * 90)), m.seed + 1);
       const float blot = ValueNoise(u * 6, v * 6, m.seed + 2);
       c = c * (0.55f + 0.7f * speck) * (0.8f + 0.4f * blot);
-      if (Frac(u / m.scale) < 0.01f || Frac(v / m.scale) < 0.01f) c = c * 0.5f;
+      if (FracF(u / m.scale) < 0.01f || FracF(v / m.scale) < 0.01f) c = c * 0.5f;
       return c;
     }
     case Pattern::kWood: {
@@ -110,13 +110,13 @@ Rgb Albedo(const Material& m, float u, float v) {
     case Pattern::kPaint:
       return m.c0 * (0.9f + 0.1f * ValueNoise(u * 3, v * 3, m.seed) + 0.05f * ValueNoise(u * 40, v * 40, m.seed + 3));
     case Pattern::kCeiling: {
-      const float fu = Frac(u / m.scale), fv = Frac(v / m.scale);
+      const float fu = FracF(u / m.scale), fv = FracF(v / m.scale);
       if (fu < 0.03f || fv < 0.03f) return m.c1;
       const float p = Hash01(int32_t(std::floor(u * 120)), int32_t(std::floor(v * 120)), m.seed);
       return m.c0 * (0.85f + 0.2f * p);
     }
     case Pattern::kLight: {
-      const float fu = Frac(u / m.scale), fv = Frac(v / m.scale);
+      const float fu = FracF(u / m.scale), fv = FracF(v / m.scale);
       return (fu < 0.04f || fv < 0.04f) ? m.c1 : m.c0;
     }
     case Pattern::kPrint:
@@ -125,7 +125,7 @@ Rgb Albedo(const Material& m, float u, float v) {
       const int32_t row = int32_t(std::floor(v / 0.07f));
       const uint32_t h = Hash3(row, 0, m.seed);
       const float x0 = float(h & 255u) / 255.f * 0.8f, len = 0.2f + float((h >> 8) & 255u) / 255.f * 0.9f;
-      const float off = Frac(v / 0.07f) - 0.5f - 0.18f * std::sin(u * 37.f + float(h & 7u));
+      const float off = FracF(v / 0.07f) - 0.5f - 0.18f * std::sin(u * 37.f + float(h & 7u));
       if ((h >> 20) % 3 != 0 && u > x0 && u < x0 + len && std::fabs(off) < 0.09f)
         return (h >> 24) & 1u ? m.c1 : m.c2;
       return m.c0 * (0.96f + 0.04f * ValueNoise(u * 5, v * 5, m.seed));
@@ -145,7 +145,7 @@ Rgb Albedo(const Material& m, float u, float v) {
       return c;
     }
     case Pattern::kKeyboard: {
-      const float ku = Frac(u / 0.019f), kv = Frac(v / 0.019f);
+      const float ku = FracF(u / 0.019f), kv = FracF(v / 0.019f);
       if (ku < 0.14f || kv < 0.14f) return m.c1;
       const uint32_t h = Hash3(int32_t(std::floor(u / 0.019f)), int32_t(std::floor(v / 0.019f)), m.seed);
       if (std::fabs(ku - 0.57f) < 0.13f && std::fabs(kv - 0.57f) < 0.16f && (h & 1u)) return m.c2;
@@ -155,12 +155,12 @@ Rgb Albedo(const Material& m, float u, float v) {
       const int32_t band = int32_t(std::floor(v / m.scale));
       const bool odd = (band & 1) != 0;
       if (!odd) return m.c0 * (0.9f + 0.1f * ValueNoise(u * 30, v * 30, m.seed));
-      const float f = Frac(u / (m.scale * 1.6f));
+      const float f = FracF(u / (m.scale * 1.6f));
       if (Hash01(band, 7, m.seed) < 0.5f && f < 0.45f) return m.c2;
       return m.c1;
     }
     case Pattern::kChecks: {
-      const float fu = Frac(u / m.scale), fv = Frac(v / m.scale);
+      const float fu = FracF(u / m.scale), fv = FracF(v / m.scale);
       const bool a = fu < 0.5f, b = fv < 0.5f;
       Rgb c = (a && b) ? m.c1 : ((a || b) ? Mix(m.c0, m.c1, 0.45f) : m.c0);
       if (std::fabs(fu - 0.75f) < 0.04f || std::fabs(fv - 0.75f) < 0.04f) c = m.c2;
@@ -170,7 +170,7 @@ Rgb Albedo(const Material& m, float u, float v) {
       const float tw = Hash01(int32_t(std::floor((u + v) * 300)), int32_t(std::floor((u - v) * 60)), m.seed);
       const float fade = ValueNoise(u * 9, v * 4, m.seed + 1);
       Rgb c = Mix(m.c0, m.c1, 0.6f * fade) * (0.8f + 0.3f * tw);
-      if (Frac(v / m.scale) < 0.04f) c = m.c2;  // seams/pockets at a coarse period
+      if (FracF(v / m.scale) < 0.04f) c = m.c2;  // seams/pockets at a coarse period
       return c;
     }
     case Pattern::kSkin: {
@@ -187,11 +187,11 @@ Rgb Albedo(const Material& m, float u, float v) {
       return m.c0 * (0.7f + 0.6f * Hash01(int32_t(std::floor(u * 300)), int32_t(std::floor(v * 30)), m.seed));
     case Pattern::kCardboard: {
       Rgb c = m.c0 * (0.85f + 0.25f * ValueNoise(u * 15, v * 15, m.seed));
-      const float fv = Frac(v / m.scale), fu = Frac(u / m.scale);
+      const float fv = FracF(v / m.scale), fu = FracF(u / m.scale);
       if (std::fabs(fv - 0.5f) < 0.07f) c = m.c1;
       if (fu > 0.1f && fu < 0.4f && fv > 0.65f && fv < 0.9f) {
         const int32_t row = int32_t((fv - 0.65f) / 0.05f);
-        c = (Frac((fv - 0.65f) / 0.05f) < 0.5f && Hash01(int32_t(fu * 20), row, m.seed) < 0.7f) ? m.c2
+        c = (FracF((fv - 0.65f) / 0.05f) < 0.5f && Hash01(int32_t(fu * 20), row, m.seed) < 0.7f) ? m.c2
                                                                                              : Rgb{0.9f, 0.9f, 0.88f};
       }
       return c;

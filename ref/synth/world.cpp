@@ -361,9 +361,13 @@ SE3 World::CameraT_wc(double t) const {
       break;
     case CameraPath::kLoop: {
       // One turn in kLoopPeriodS: the eye on a 0.35 m circle around (0, -1.3, 1.3), looking outwards
-      // 20 deg down (desks, right wall, back wall, left wall, desks), then the start view again.
+      // 20 deg down (desks, right wall, back wall, left wall, desks), then on over the start of the
+      // turn again (72 deg in the last 4 s of 720 frames). It does not stop at the start view: a
+      // still camera makes no keyframe (ORB-SLAM2's keyframe rule), and loop detection needs three
+      // consecutive consistent keyframes in the revisited place (loop_static seed 2 stopped after
+      // two, reports/loop_closing.md).
       const double kLoopPeriodS = 20.0;
-      const double a = 2 * kPi * std::min(t, kLoopPeriodS) / kLoopPeriodS;
+      const double a = 2 * kPi * t / kLoopPeriodS;
       const Vector3d dir(std::sin(a), std::cos(a), 0);
       eye = Vector3d(0, -1.3, 1.3) + 0.35 * dir + tremor;
       target = eye + dir + Vector3d(0, 0, -0.36);

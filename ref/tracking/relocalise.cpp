@@ -42,6 +42,65 @@ bool SolveEpnp(const std::vector<cv::Point3d>& X, const std::vector<cv::Point2d>
   return true;
 }
 
+// EPnP on the correspondences ks (positions in idx / X), in that order.
+bool SolveEpnpOn(const Frame& f, const Camera& cam, const std::vector<int>& idx, const std::vector<Eigen::Vector3d>& X,
+                 const std::vector<int>& ks, SE3* T_cw) {
+  std::vector<cv::Point3d> Xs;
+  std::vector<cv::Point2d> us;
+  for (int k : ks) {
+    Xs.emplace_back(X[k].x(), X[k].y(), X[k].z());
+    us.emplace_back(f.keys_un[idx[k]].pt.x, f.keys_un[idx[k]].pt.y);
+  }
+  return SolveEpnp(Xs, us, cam, T_cw);
+}
+
+// Inliers of pose T: in front of the camera and reprojected within the chi2 gate 5.991 (ORB-SLAM2
+// PnPsolver) scaled by the key's level. Returns their count; inl: a flag per correspondence.
+int ScoreRelocPose(const Frame& f, const Camera& cam, const std::vector<int>& idx, const std::vector<Eigen::Vector3d>& X,
+                   const SE3& T, std::vector<uint8_t>* inl) {
+  const double th2 = 5.991;
+  const int n = static_cast<int>(idx.size());
+  int c = 0;
+  inl->assign(n, 0);
+  for (int k = 0; k < n; ++k) {
+    const Eigen::Vector3d Xc = T * X[k];
+    if (Xc.z() <= 0) continue;
+    const Eigen::Vector2d p = ProjectPinhole(cam, Xc);
+    const cv::KeyPoint& kp = f.keys_un[idx[k]];
+    const double e2 = (p - Eigen::Vector2d(kp.pt.x, kp.pt.y)).squaredNorm();
+    if (e2 < th2 * f.pyramid.sigma2[kp.octave]) {
+      (*inl)[k] = 1;
+      ++c;
+    }
+  }
+  return c;
+}
+
+// Four distinct correspondences drawn from the stream.
+std::vector<int> DrawPnpSample(Rng& rng, int n) {
+  std::vector<int> sample;
+  while (sample.size() < 4) {
+    const int s = static_cast<int>(rng.UniformInt(0, n - 1));
+    if (std::find(sample.begin(), sample.end(), s) == sample.end()) sample.push_back(s);
+  }
+  return sample;
+}
+
+void DropRelocOutliers(Frame& f) {
+  for (size_t i = 0; i < f.N(); ++i)
+    if (f.outlier[i]) {
+      f.map_point_ids[i] = -1;
+      f.outlier[i] = 0;
+    }
+}
+
+std::set<int64_t> RelocFoundPoints(const Frame& f) {
+  std::set<int64_t> s;
+  for (int64_t id : f.map_point_ids)
+    if (id >= 0) s.insert(id);
+  return s;
+}
+
 }  // namespace
 
 bool Tracker::PnpRansac(const Frame& f, const std::vector<int>& idx, const std::vector<Eigen::Vector3d>& X,
@@ -49,7 +108,7 @@ bool Tracker::PnpRansac(const Frame& f, const std::vector<int>& idx, const std::
   const int n = static_cast<int>(idx.size());
   if (n < 4) return false;
   // ORB-SLAM2 PnPsolver::SetRansacParameters(0.99, 10, 300, 4, 0.5, 5.991).
-  const double probability = 0.99, epsilon = 0.5, th2 = 5.991;
+  const double probability = 0.99, epsilon = 0.5;
   const int min_inliers = std::max(10, static_cast<int>(n * epsilon));
   int iterations = options_.ransac_iterations;
   if (min_inliers != n) {
@@ -59,38 +118,11 @@ bool Tracker::PnpRansac(const Frame& f, const std::vector<int>& idx, const std::
   int best = -1;
   std::vector<uint8_t> best_inl;
   SE3 best_T = SE3::Identity();
-  auto score = [&](const SE3& T, std::vector<uint8_t>* inl) {
-    int c = 0;
-    inl->assign(n, 0);
-    for (int k = 0; k < n; ++k) {
-      const Eigen::Vector3d Xc = T * X[k];
-      if (Xc.z() <= 0) continue;
-      const Eigen::Vector2d p = ProjectPinhole(camera_, Xc);
-      const cv::KeyPoint& kp = f.keys_un[idx[k]];
-      const double e2 = (p - Eigen::Vector2d(kp.pt.x, kp.pt.y)).squaredNorm();
-      if (e2 < th2 * f.pyramid.sigma2[kp.octave]) {
-        (*inl)[k] = 1;
-        ++c;
-      }
-    }
-    return c;
-  };
   for (int it = 0; it < iterations; ++it) {
-    std::vector<int> sample;
-    while (sample.size() < 4) {
-      const int s = static_cast<int>(rng_.UniformInt(0, n - 1));
-      if (std::find(sample.begin(), sample.end(), s) == sample.end()) sample.push_back(s);
-    }
-    std::vector<cv::Point3d> Xs;
-    std::vector<cv::Point2d> us;
-    for (int s : sample) {
-      Xs.emplace_back(X[s].x(), X[s].y(), X[s].z());
-      us.emplace_back(f.keys_un[idx[s]].pt.x, f.keys_un[idx[s]].pt.y);
-    }
     SE3 T;
-    if (!SolveEpnp(Xs, us, camera_, &T)) continue;
+    if (!SolveEpnpOn(f, camera_, idx, X, DrawPnpSample(rng_, n), &T)) continue;
     std::vector<uint8_t> inl;
-    const int c = score(T, &inl);
+    const int c = ScoreRelocPose(f, camera_, idx, X, T, &inl);
     if (c > best) {
       best = c;
       best_inl = inl;
@@ -99,17 +131,13 @@ bool Tracker::PnpRansac(const Frame& f, const std::vector<int>& idx, const std::
   }
   if (best < min_inliers) return false;
   // Refine with all inliers (ORB-SLAM2 PnPsolver::Refine), keep it when it does not lose inliers.
-  std::vector<cv::Point3d> Xs;
-  std::vector<cv::Point2d> us;
-  for (int k = 0; k < n; ++k) {
-    if (!best_inl[k]) continue;
-    Xs.emplace_back(X[k].x(), X[k].y(), X[k].z());
-    us.emplace_back(f.keys_un[idx[k]].pt.x, f.keys_un[idx[k]].pt.y);
-  }
+  std::vector<int> inlier_ks;
+  for (int k = 0; k < n; ++k)
+    if (best_inl[k]) inlier_ks.push_back(k);
   SE3 T_ref;
-  if (SolveEpnp(Xs, us, camera_, &T_ref)) {
+  if (SolveEpnpOn(f, camera_, idx, X, inlier_ks, &T_ref)) {
     std::vector<uint8_t> inl;
-    if (score(T_ref, &inl) >= best) {
+    if (ScoreRelocPose(f, camera_, idx, X, T_ref, &inl) >= best) {
       best_T = T_ref;
       best_inl = inl;
     }
@@ -119,61 +147,54 @@ bool Tracker::PnpRansac(const Frame& f, const std::vector<int>& idx, const std::
   return true;
 }
 
+// ORB-SLAM2 Tracking::Relocalization after the PnP pose: with fewer than 50 inliers, points of
+// the candidate keyframe found by projection (window 10, then 3) and the pose optimised again.
+int Tracker::RelocaliseByProjection(Frame& f, const KeyFrame& kf, int good) {
+  const int add = SearchByProjectionKeyFrame(f, kf, map_, RelocFoundPoints(f), 10, f.match_profile.th_high);
+  if (add + good < 50) return good;
+  good = OptimizePose(f);
+  if (good > 30 && good < 50) {
+    DropRelocOutliers(f);
+    const int add2 = SearchByProjectionKeyFrame(f, kf, map_, RelocFoundPoints(f), 3, f.match_profile.th_reloc);
+    if (good + add2 >= 50) good = OptimizePose(f);
+  }
+  DropRelocOutliers(f);
+  return good;
+}
+
+// The candidate's matches, PnP RANSAC and pose optimisation; true with >= 50 inliers.
+bool Tracker::RelocaliseFrom(Frame& f, const KeyFrame& kf, const PlaceBow& frame_bow) {
+  std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
+  const int n = MatchRelocalisationCandidate(kf, f, map_, options_, place_, frame_bow);
+  if (n < 15) return false;
+  std::vector<int> idx;
+  std::vector<Eigen::Vector3d> X;
+  for (size_t i = 0; i < f.N(); ++i) {
+    if (f.map_point_ids[i] < 0) continue;
+    idx.push_back(static_cast<int>(i));
+    X.push_back(map_.mp(f.map_point_ids[i])->X_w);
+  }
+  SE3 T;
+  std::vector<uint8_t> inl;
+  if (!PnpRansac(f, idx, X, &T, &inl)) return false;
+  for (size_t k = 0; k < idx.size(); ++k)
+    if (!inl[k]) f.map_point_ids[idx[k]] = -1;
+  f.T_cw = T;
+  int good = OptimizePose(f);
+  if (good < 10) return false;
+  DropRelocOutliers(f);
+  if (good < 50) good = RelocaliseByProjection(f, kf, good);
+  if (good < 50) return false;
+  last_reloc_frame_ = f.index;
+  trace_.FrameCount("track.reloc", "inliers", good);
+  return true;
+}
+
 bool Tracker::Relocalise(Frame& f) {
   PlaceBow frame_bow;  // the frame's vectors when a vocabulary is used (relocaliser_bow.h)
   const std::vector<int64_t> candidates = RelocalisationCandidates(f, map_, options_, place_, trace_, &frame_bow);
-  for (int64_t kf_id : candidates) {
-    const KeyFrame& kf = *map_.kf(kf_id);
-    std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
-    const int n = MatchRelocalisationCandidate(kf, f, map_, options_, place_, frame_bow);
-    if (n < 15) continue;
-    std::vector<int> idx;
-    std::vector<Eigen::Vector3d> X;
-    for (size_t i = 0; i < f.N(); ++i) {
-      if (f.map_point_ids[i] < 0) continue;
-      idx.push_back(static_cast<int>(i));
-      X.push_back(map_.mp(f.map_point_ids[i])->X_w);
-    }
-    SE3 T;
-    std::vector<uint8_t> inl;
-    if (!PnpRansac(f, idx, X, &T, &inl)) continue;
-    for (size_t k = 0; k < idx.size(); ++k)
-      if (!inl[k]) f.map_point_ids[idx[k]] = -1;
-    f.T_cw = T;
-    int good = OptimizePose(f);
-    if (good < 10) continue;
-    auto drop_outliers = [&]() {
-      for (size_t i = 0; i < f.N(); ++i)
-        if (f.outlier[i]) {
-          f.map_point_ids[i] = -1;
-          f.outlier[i] = 0;
-        }
-    };
-    drop_outliers();
-    auto found_set = [&]() {
-      std::set<int64_t> s;
-      for (int64_t id : f.map_point_ids)
-        if (id >= 0) s.insert(id);
-      return s;
-    };
-    if (good < 50) {
-      const int add = SearchByProjectionKeyFrame(f, kf, map_, found_set(), 10, f.match_profile.th_high);
-      if (add + good >= 50) {
-        good = OptimizePose(f);
-        if (good > 30 && good < 50) {
-          drop_outliers();
-          const int add2 = SearchByProjectionKeyFrame(f, kf, map_, found_set(), 3, f.match_profile.th_reloc);
-          if (good + add2 >= 50) good = OptimizePose(f);
-        }
-        drop_outliers();
-      }
-    }
-    if (good >= 50) {
-      last_reloc_frame_ = f.index;
-      trace_.FrameCount("track.reloc", "inliers", good);
-      return true;
-    }
-  }
+  for (int64_t kf_id : candidates)
+    if (RelocaliseFrom(f, *map_.kf(kf_id), frame_bow)) return true;
   std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
   return false;
 }

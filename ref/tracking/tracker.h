@@ -5,6 +5,7 @@
 #pragma once
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -19,7 +20,9 @@
 
 namespace dynref::tracking {
 
-class PlaceIndex;  // place_index.h
+class PlaceIndex;      // place_index.h
+struct PlaceBow;        // place_index.h
+struct ProjectedPoint;  // matcher.h
 
 struct TrackerOptions {
   int min_init_points = 500;   // ORB-SLAM2 StereoInitialization: N > 500 (here: with depth)
@@ -85,17 +88,32 @@ class Tracker {
   int pose_calls() const { return pose_call_; }
 
  private:
-  int OptimizePose(Frame& f);                     // returns inliers (map points with obs)
+  // tracker.cpp
   void TraceKeyFrame(const KeyFrame& k);          // PROB "track.keyframe" kf<id>: input frame
-  int DiscardOutliers(Frame& f);                  // returns matches with map observations
-  bool TrackWithMotionModel(Frame& f);
-  bool TrackReferenceKeyFrame(Frame& f);
-  bool Relocalise(Frame& f);
-  bool PnpRansac(const Frame& f, const std::vector<int>& idx, const std::vector<Eigen::Vector3d>& X,
-                 SE3* T_cw, std::vector<uint8_t>* inliers);
-  void UpdateLocalKeyFrames(Frame& f);
   void UpdateLastFramePose();
   void CheckReplacedInLastFrame();
+  // pose_tracking.cpp
+  bool TrackWithMotionModel(Frame& f);
+  bool TrackReferenceKeyFrame(Frame& f);
+  std::vector<optim::PoseObservation> PoseObservations(Frame& f, std::vector<int>* idx);
+  int OptimizePose(Frame& f);                     // returns inliers (map points with obs)
+  int DiscardOutliers(Frame& f);                  // returns matches with map observations
+  // relocalise.cpp
+  bool Relocalise(Frame& f);
+  bool RelocaliseFrom(Frame& f, const KeyFrame& kf, const PlaceBow& frame_bow);
+  int RelocaliseByProjection(Frame& f, const KeyFrame& kf, int good);  // returns the inliers
+  bool PnpRansac(const Frame& f, const std::vector<int>& idx, const std::vector<Eigen::Vector3d>& X,
+                 SE3* T_cw, std::vector<uint8_t>* inliers);
+  // local_map.cpp
+  std::map<int64_t, int> CountObservingKeyFrames(Frame& f);
+  void UpdateLocalKeyFrames(Frame& f);
+  void AddNeighbourKeyFrames(int frame_index);
+  std::vector<int64_t> LocalPoints(int frame_index);
+  std::vector<ProjectedPoint> LocalPointsInView(Frame& f, const std::vector<int64_t>& local_points);
+  // new_keyframes.cpp
+  KeyFrame* AddKeyFrameOf(const Frame& f);        // into the map, traced
+  void AddPointFromDepth(Frame& f, const KeyFrame& k, int i);
+  int AddPointsByDepth(Frame& f, KeyFrame& k);
 
   const Camera& camera_;
   Map& map_;

@@ -17,11 +17,9 @@ namespace {
 using trace::Record;
 using trace::RecordType;
 
-constexpr double kTol = 1e-9;
 // inv_sigma2 of an octave: the backbone's pyramid is float32 (ORB-SLAM2 mvInvLevelSigma2), the
 // verifier's 1 / scale^(2 o) double: up to 8 float roundings, ~5e-7 relative.
 constexpr double kInfoTol = 1e-6;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kPi = 3.14159265358979323846;
 // 95 % chi-square quantiles of the structure residuals (optim/optim.h, not config keys).
 constexpr double kChi2Line4 = 9.488, kChi2Line1 = 3.841, kChi2Plane = 7.815;

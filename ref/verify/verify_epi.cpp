@@ -19,7 +19,6 @@ using trace::EntityKind;
 using trace::Record;
 using trace::RecordType;
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Tolerance of the DLT point and its depths / reprojection errors (epi.nerf): the null vector of
 // the 4 x 4 DLT system is recomputed by another SVD; its conditioning grows as 1 / parallax.

@@ -35,7 +35,6 @@ using trace::EntityKind;
 using trace::Record;
 using trace::RecordType;
 
-constexpr double kTol = 1e-9;
 // The epipolar distance goes through this frame's initial POSE record, stored as T_wc and
 // inverted here (the stage holds T_cw): F differs in the last bits, d_epi by ~1e-12 px.
 constexpr double kEpiTol = 1e-8;

@@ -17,22 +17,8 @@ namespace {
 using trace::Record;
 using trace::RecordType;
 
-constexpr double kTol = 1e-9;
-constexpr const char* kMask = "semantic.mask";
+constexpr const char* kSemanticMask = "semantic.mask";
 constexpr const char* kInteraction = "semantic.interaction";
-
-class StageVerifier : public Verifier {
- public:
-  using Fn = std::function<void(const TraceModel&, RecordRef, Check&)>;
-  StageVerifier(RecordType type, std::string stage, Fn fn) : type_(type), stage_(std::move(stage)), fn_(std::move(fn)) {}
-  bool Claims(const Record& r) const override { return r.type == type_ && r.stage == stage_; }
-  void Verify(const TraceModel& t, RecordRef at, Check& c) const override { fn_(t, at, c); }
-
- private:
-  RecordType type_;
-  std::string stage_;
-  Fn fn_;
-};
 
 // PROB records of `stage` on `entity` in frame group `frame_pos` (before record `before`), in order.
 std::vector<const Record*> ProbsInFrame(const TraceModel& t, size_t frame_pos, const std::string& stage,
@@ -53,11 +39,11 @@ const Record* LastProb(const TraceModel& t, size_t frame_pos, const std::string&
 
 std::string Param(const TraceModel& t, const std::string& key) {
   std::string v;
-  t.StageParam(kMask, key, &v);
+  t.StageParam(kSemanticMask, key, &v);
   return v;
 }
 
-std::set<int> PriorDynamicIds(const TraceModel& t) { return t.StageClassIds(kMask, "prior_dynamic_classes"); }
+std::set<int> PriorDynamicIds(const TraceModel& t) { return t.StageClassIds(kSemanticMask, "prior_dynamic_classes"); }
 
 // Table 1 partition of one instance from its semantic.mask instance record.
 struct Partition {
@@ -68,7 +54,7 @@ struct Partition {
 Partition Classify(const TraceModel& t, const Record& r, Check& c) {
   Partition p;
   const double class_id = c.Need(r, "class_id"), conf = c.Need(r, "confidence");
-  const double min_conf = AppliedMinConfidence(t, r, kMask, c);
+  const double min_conf = AppliedMinConfidence(t, r, kSemanticMask, c);
   const std::set<int> prior = PriorDynamicIds(t);
   if (prior.empty()) c.Missing("config semantic.mask.prior_dynamic_classes");
   if (!c.ok()) return p;
@@ -81,7 +67,7 @@ Partition Classify(const TraceModel& t, const Record& r, Check& c) {
 // The partition of instance `inst` of this frame (from its record; Missing when absent).
 bool InstancePartition(const TraceModel& t, size_t frame_pos, int64_t inst, Partition* p, Check& c) {
   const std::string id = "i" + std::to_string(t.frames()[frame_pos].frame) + "." + std::to_string(inst);
-  const Record* r = LastProb(t, frame_pos, kMask, id);
+  const Record* r = LastProb(t, frame_pos, kSemanticMask, id);
   if (r == nullptr) {
     c.Missing("semantic.mask record of " + id);
     return false;
@@ -104,8 +90,8 @@ void VerifyInteraction(const TraceModel& t, RecordRef at, Check& c) {
   if (!ParseDottedId(r.entity, "i", &frame, &b)) return c.Same("entity", std::string("i<frame>.<inst>"), r.entity);
   const double a = c.Need(r, "with_instance"), pairs = c.Need(r, "pairs"), dz = c.Need(r, "dz_mean_m");
   const double t_int = c.Need(r, "t_int_m"), d_max = c.Need(r, "d_max_px");
-  const double t_int_cfg = c.Need(t.StageNumber(kMask, "t_int_m"), "config semantic.mask.t_int_m");
-  const double d_max_cfg = c.Need(t.StageNumber(kMask, "d_max_px"), "config semantic.mask.d_max_px");
+  const double t_int_cfg = c.Need(t.StageNumber(kSemanticMask, "t_int_m"), "config semantic.mask.t_int_m");
+  const double d_max_cfg = c.Need(t.StageNumber(kSemanticMask, "d_max_px"), "config semantic.mask.d_max_px");
   if (!c.ok()) return;
   c.Same("config semantic.mask.interaction", std::string("true"), Param(t, "interaction"));
   c.Near("t_int_m", t_int_cfg, t_int, 0);
@@ -130,7 +116,7 @@ void VerifyInteraction(const TraceModel& t, RecordRef at, Check& c) {
   c.Near("after", pairs > 0 && dz < t_int_cfg ? 1 : 0, r.after, 0);
 }
 
-void VerifyMaskProb(const TraceModel& t, RecordRef at, Check& c) {
+void VerifySemanticMaskProb(const TraceModel& t, RecordRef at, Check& c) {
   const Record& r = t.At(at);
   c.Near("before", 0, r.before, 0);
   if (r.kind == trace::EntityKind::kInstanceMask) {
@@ -147,15 +133,15 @@ void VerifyMaskProb(const TraceModel& t, RecordRef at, Check& c) {
   c.Same("instance != 0", true, inst != 0);
   const std::string id = "i" + std::to_string(t.frames()[at.frame_pos].frame) + "." +
                          std::to_string(static_cast<int64_t>(inst));
-  const Record* ir = LastProb(t, at.frame_pos, kMask, id);
+  const Record* ir = LastProb(t, at.frame_pos, kSemanticMask, id);
   if (ir == nullptr) return c.Missing("semantic.mask record of " + id);
   c.Near("instance in M_dyn (semantic.mask " + id + " after)", 1, ir->after, 0);
   c.Near("after", 1, r.after, 0);
 }
 
-void VerifyMaskDecision(const TraceModel& t, RecordRef at, Check& c) {
+void VerifySemanticMaskDecision(const TraceModel& t, RecordRef at, Check& c) {
   const Record& r = t.At(at);
-  const Record* p = LastProb(t, at.frame_pos, kMask, r.entity, at.index);
+  const Record* p = LastProb(t, at.frame_pos, kSemanticMask, r.entity, at.index);
   if (p == nullptr) return c.Missing("semantic.mask PROB of " + r.entity);
   if (r.kind == trace::EntityKind::kInstanceMask) {
     const Partition part = Classify(t, *p, c);
@@ -183,8 +169,8 @@ void AddSemanticVerifiers(VerifierList& out) {
     out.push_back(std::make_unique<StageVerifier>(type, stage, std::move(fn)));
   };
   add(RecordType::kProbability, kInteraction, VerifyInteraction);
-  add(RecordType::kProbability, kMask, VerifyMaskProb);
-  add(RecordType::kDecision, kMask, VerifyMaskDecision);
+  add(RecordType::kProbability, kSemanticMask, VerifySemanticMaskProb);
+  add(RecordType::kDecision, kSemanticMask, VerifySemanticMaskDecision);
 }
 
 }  // namespace dynref::verify

@@ -25,21 +25,6 @@ namespace {
 using trace::Record;
 using trace::RecordType;
 
-constexpr double kTol = 1e-9;
-
-// One verifier per (record type, stage); the body branches on the entity kind.
-class StageVerifier : public Verifier {
- public:
-  using Fn = std::function<void(const TraceModel&, RecordRef, Check&)>;
-  StageVerifier(RecordType type, std::string stage, Fn fn) : type_(type), stage_(std::move(stage)), fn_(std::move(fn)) {}
-  bool Claims(const Record& r) const override { return r.type == type_ && r.stage == stage_; }
-  void Verify(const TraceModel& t, RecordRef at, Check& c) const override { fn_(t, at, c); }
-
- private:
-  RecordType type_;
-  std::string stage_;
-  Fn fn_;
-};
 
 // The last PROB of `stage` on `entity` in frame group `frame_pos` before record `before` (all of
 // the frame when before = npos); nullptr if none.

@@ -13,49 +13,71 @@
 namespace dynref::view {
 namespace {
 
-constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+// basE91's alphabet with '-' for '"' (README.md "Size"); the page's decoder (site/view.js) has the same.
+constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789!#$%&()*+,./:;<=>?@[]^_`{|}~-";
 
-std::string Base64(const std::string& bytes) {
+std::string Base91(const std::string& bytes) {
   std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  for (size_t i = 0; i < bytes.size(); i += 3) {
-    const size_t n = std::min<size_t>(3, bytes.size() - i);
-    uint32_t v = 0;
-    for (size_t k = 0; k < 3; ++k) v = v << 8 | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
-    for (size_t k = 0; k < 4; ++k) out += k <= n ? kAlphabet[(v >> (18 - 6 * k)) & 63] : '=';
+  out.reserve(bytes.size() * 5 / 4 + 2);
+  uint32_t b = 0;
+  int n = 0;
+  for (char c : bytes) {
+    b |= static_cast<uint32_t>(static_cast<unsigned char>(c)) << n;
+    n += 8;
+    if (n > 13) {
+      uint32_t v = b & 8191;
+      if (v > 88) {
+        b >>= 13, n -= 13;
+      } else {
+        v = b & 16383, b >>= 14, n -= 14;
+      }
+      out += kAlphabet[v % 91], out += kAlphabet[v / 91];
+    }
+  }
+  if (n > 0) {
+    out += kAlphabet[b % 91];
+    if (n > 7 || b > 90) out += kAlphabet[b / 91];
   }
   return out;
 }
 
-std::string Unbase64(const std::string& text) {
+std::string Unbase91(const std::string& text) {
   std::string out;
-  uint32_t v = 0;
-  int bits = 0;
+  uint32_t b = 0;
+  int n = 0, v = -1;
   for (char c : text) {
-    if (c == '=') break;
-    const char* p = std::strchr(kAlphabet, c);
-    if (p == nullptr || c == '\0') throw InputError("base64", "invalid character");
-    v = v << 6 | static_cast<uint32_t>(p - kAlphabet);
-    bits += 6;
-    if (bits >= 8) bits -= 8, out += static_cast<char>((v >> bits) & 0xff);
+    const char* p = c == '\0' ? nullptr : std::strchr(kAlphabet, c);
+    if (p == nullptr) throw InputError("base91", "invalid character");
+    const int d = static_cast<int>(p - kAlphabet);
+    if (v < 0) {
+      v = d;
+      continue;
+    }
+    v += d * 91;
+    b |= static_cast<uint32_t>(v) << n;
+    n += (v & 8191) > 88 ? 13 : 14;
+    do out += static_cast<char>(b & 0xff), b >>= 8, n -= 8;
+    while (n > 7);
+    v = -1;
   }
+  if (v >= 0) out += static_cast<char>((b | static_cast<uint32_t>(v) << n) & 0xff);
   return out;
 }
 
 }  // namespace
 
-std::string DeflateBase64(const std::string& text) {
+std::string DeflateBase91(const std::string& text) {
   uLongf size = compressBound(static_cast<uLong>(text.size()));
   std::string out(size, '\0');
   if (compress2(reinterpret_cast<Bytef*>(out.data()), &size, reinterpret_cast<const Bytef*>(text.data()),
                 static_cast<uLong>(text.size()), 9) != Z_OK)
     throw std::runtime_error("zlib compress2 failed");
   out.resize(size);
-  return Base64(out);
+  return Base91(out);
 }
 
-std::string InflateBase64(const std::string& b64) {
-  const std::string in = Unbase64(b64);
+std::string InflateBase91(const std::string& b91) {
+  const std::string in = Unbase91(b91);
   z_stream z{};
   if (inflateInit(&z) != Z_OK) throw std::runtime_error("zlib inflateInit failed");
   z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(in.data()));
@@ -70,7 +92,7 @@ std::string InflateBase64(const std::string& b64) {
     out.append(buf, sizeof(buf) - z.avail_out);
   }
   inflateEnd(&z);
-  if (rc != Z_STREAM_END) throw InputError("base64", "not a complete zlib stream");
+  if (rc != Z_STREAM_END) throw InputError("base91", "not a complete zlib stream");
   return out;
 }
 

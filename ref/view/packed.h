@@ -1,7 +1,8 @@
 // Compact data files of `dynref view` (README.md "Size"): a frame's records as columns (one per
 // record schema and field, file order kept by a schema-id column), numbers rounded to the
-// significant digits the page shows, zlib-compressed and base64-encoded into a <script> string
-// (the page inflates it with the browser's DecompressionStream: no fetch(), works from file://).
+// significant digits the page shows, repeated columns and id-like text columns encoded compactly
+// (PackColumns), zlib-compressed and basE91-encoded into a <script> string (the page inflates it
+// with the browser's DecompressionStream: no fetch(), works from file://).
 #pragma once
 #include <string>
 
@@ -9,10 +10,18 @@
 
 namespace dynref::view {
 
-// zlib (RFC 1950) stream of `text` at level 9, as base64 (RFC 4648, padded).
-std::string DeflateBase64(const std::string& text);
-// Inverse of DeflateBase64 (tests); InputError on a corrupt string.
-std::string InflateBase64(const std::string& b64);
+// zlib (RFC 1950) stream of `text` at level 9, as basE91 text (Joachim Henke's basE91 with '-'
+// in place of '"', so the string needs no escape in JavaScript: ~23 % overhead, base64's 33 %).
+std::string DeflateBase91(const std::string& text);
+// Inverse of DeflateBase91 (tests); InputError on a corrupt string.
+std::string InflateBase91(const std::string& b91);
+// A frame's columns {schema id: [column...]} (site_data.cpp FrameColumns) with each column that
+// equals an earlier one (in the object's key order) replaced by {"=": [schema id, index]}, and each
+// remaining all-text column whose values share one text between their integers ("f12.3",
+// "mp4@kf2", "-1") by {"c": count, "t": [texts], "n": [[first, deltas...] per integer]}. The page
+// (site/view.js expandColumns) restores the plain columns; UnpackColumns is its C++ twin (tests).
+nlohmann::json PackColumns(const nlohmann::json& cols);
+nlohmann::json UnpackColumns(const nlohmann::json& packed);
 // A number for the page: `digits` significant digits (17: exact), integral values as integers,
 // non-finite values as the strings the trace dump uses ("nan", "inf", "-inf").
 nlohmann::json RoundedNumber(double v, int digits);

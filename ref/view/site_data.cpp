@@ -116,7 +116,7 @@ json TrajectoryData(const std::string& run_dir, const json& run_json) {
 }
 
 // A frame's records as columns (packed.h): "order" = the schema id of each record in file
-// order; "cols"[schema] = [entities, occurrences, one array per field].
+// order; "cols"[schema] = [entities, occurrences, one array per field], packed (PackColumns).
 class FrameColumns {
  public:
   void Add(int schema, const trace::FlatRecord& r, int digits) {
@@ -131,7 +131,7 @@ class FrameColumns {
     for (size_t i = 0; i < r.fields.size(); ++i)
       c[2 + i].push_back(r.fields[i].exact ? json(r.fields[i].text) : RoundedNumber(r.fields[i].number, digits));
   }
-  json Json() const { return {{"order", order_}, {"cols", cols_}}; }
+  json Json() const { return {{"order", order_}, {"cols", PackColumns(cols_)}}; }
 
  private:
   json order_ = json::array();
@@ -150,7 +150,7 @@ uint64_t WriteFollowLinks(trace::TraceReader& reader, int k, const std::string& 
     flat.push_back(l.a), flat.push_back(l.b), flat.push_back(it->second);
   }
   const json data = {{"via", via}, {"links", flat}, {"masks", links.instance_masks}};
-  const std::string text = Script("VIEW.linksZ", json::array({k, DeflateBase64(data.dump())}));
+  const std::string text = Script("VIEW.linksZ", json::array({k, DeflateBase91(data.dump())}));
   AtomicWriteFile(dir + "/links.js", text);
   return text.size();
 }
@@ -197,7 +197,7 @@ RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_d
     const json head = {{"frame", frame}, {"stamp", Number(stamp)},
                        {"image", img == image_for_frame.end() ? "" : img->second}};
     const std::string text =
-        Script("VIEW.frameZ", json::array({k, frame, head, DeflateBase64(columns.Json().dump())}));
+        Script("VIEW.frameZ", json::array({k, frame, head, DeflateBase91(columns.Json().dump())}));
     AtomicWriteFile(dir + "/f" + std::to_string(frame) + ".js", text);
     site.data_bytes += text.size();
     site.frames.push_back(frame);

@@ -16,7 +16,7 @@ namespace {
 const std::string kSeq = SourcePath("datasets/real/tum_fr1_desk_9frames");
 }  // namespace
 
-TEST_CASE("an unknown command is named and the valid ones listed") {
+TEST_CASE("an unknown command is named and the valid ones listed", "[cli]") {
   const auto top = RunDynref("frobnicate");
   INFO(top.output);
   CHECK(top.exit_code == 2);
@@ -36,7 +36,7 @@ TEST_CASE("an unknown command is named and the valid ones listed") {
   CHECK(RunDynref("trace --help").exit_code == 0);
 }
 
-TEST_CASE("run rejects an empty --frames, an unknown --detector and an --out that is a file") {
+TEST_CASE("run rejects an empty --frames, an unknown --detector and an --out that is a file", "[cli]") {
   const std::string dir = ScratchDir("cli_run_bad_args");
   const std::string seq = " --sequence " + Quote(kSeq) + " --camera tum_fr1";
   ExpectBadInput("run" + seq + " --out " + Quote(dir + "/r1") + " --frames ''", "--frames: empty value");
@@ -53,7 +53,7 @@ TEST_CASE("run rejects an empty --frames, an unknown --detector and an --out tha
   CHECK(r.output.find("filesystem error") == std::string::npos);
 }
 
-TEST_CASE("reproduce sgdo-table6 checks every argument before synthesising anything") {
+TEST_CASE("reproduce sgdo-table6 checks every argument before synthesising anything", "[cli]") {
   const std::string dir = ScratchDir("cli_reproduce_bad_args");
   const std::string base0 = "reproduce sgdo-table6 --work " + Quote(dir + "/work") + " --out " +
                            Quote(dir + "/report.md");
@@ -74,7 +74,7 @@ TEST_CASE("reproduce sgdo-table6 checks every argument before synthesising anyth
   CHECK_FALSE(FileExists(dir + "/report.md"));
 }
 
-TEST_CASE("reproduce blur-table1/3 check every argument before synthesising anything") {
+TEST_CASE("reproduce blur-table1/3 check every argument before synthesising anything", "[cli]") {
   const std::string dir = ScratchDir("cli_reproduce_blur_bad_args");
   for (const std::string table : {"blur-table1", "blur-table3"}) {
     const std::string base = "reproduce " + table + " --work " + Quote(dir + "/work") + " --out " +

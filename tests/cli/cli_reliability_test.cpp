@@ -46,7 +46,7 @@ void ExpectOkToNull(const std::string& args) {
 
 }  // namespace
 
-TEST_CASE("cli: standard output on a full disk exits 2 with one message (issue 37)") {
+TEST_CASE("cli: standard output on a full disk exits 2 with one message (issue 37)", "[cli]") {
   REQUIRE(FileExists("/dev/full"));
   const std::string d = ScratchDir("cli_stdout_full");
   const std::string gt = WriteText(d + "/gt.txt", kTraj);
@@ -58,7 +58,7 @@ TEST_CASE("cli: standard output on a full disk exits 2 with one message (issue 3
   }
 }
 
-TEST_CASE("cli: trace dump, trace feature, diff and map-eval on a full disk exit 2 with one message (issue 37) end to end") {
+TEST_CASE("cli: trace dump, trace feature, diff and map-eval on a full disk exit 2 with one message (issue 37) end to end", "[cli]") {
   const std::string d = ScratchDir("cli_stdout_full_run");
   REQUIRE(RunDynref("synth --preset walking_xyz --frames 4 --seed 1 --out " + Quote(d + "/seq")).exit_code == 0);
   REQUIRE(RunDynref("run --method orb --no-progress --trace full --sequence " + Quote(d + "/seq") + " --out " +
@@ -77,7 +77,7 @@ TEST_CASE("cli: trace dump, trace feature, diff and map-eval on a full disk exit
   CHECK(dump.output.rfind("dynref: error: cannot write standard output", 0) == 0);
 }
 
-TEST_CASE("cli: libpng / libjpeg / OpenCV lines do not precede dynref's message on a broken image (issue 37)") {
+TEST_CASE("cli: libpng / libjpeg / OpenCV lines do not precede dynref's message on a broken image (issue 37)", "[cli]") {
   const std::string d = ScratchDir("cli_codec_messages");
   cv::Mat img(72, 96, CV_8UC3, cv::Scalar(10, 200, 30));
   std::vector<uchar> png;
@@ -106,7 +106,7 @@ TEST_CASE("cli: libpng / libjpeg / OpenCV lines do not precede dynref's message 
   }
 }
 
-TEST_CASE("cli: enhance on an image too small for the two-scale step is a clear error (issue 37)") {
+TEST_CASE("cli: enhance on an image too small for the two-scale step is a clear error (issue 37)", "[cli]") {
   const std::string d = ScratchDir("cli_enhance_tiny");
   for (const cv::Size size : {cv::Size(1, 1), cv::Size(2, 1), cv::Size(1, 5)}) {
     const std::string name = std::to_string(size.width) + "x" + std::to_string(size.height);

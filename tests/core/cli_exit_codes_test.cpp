@@ -4,7 +4,7 @@
 
 using dynref::test::RunDynref;
 
-TEST_CASE("cli: --help exits 0, unknown flags and commands exit 2") {
+TEST_CASE("cli: --help exits 0, unknown flags and commands exit 2", "[cli]") {
   CHECK(RunDynref("--help").exit_code == 0);
   CHECK(RunDynref("version --help").exit_code == 0);
   const auto bad_flag = RunDynref("version --no-such-flag");

@@ -28,7 +28,7 @@ const std::string kSeq = "--sequence '" + SourcePath("datasets/real/tum_fr1_desk
 
 }  // namespace
 
-TEST_CASE("cli: detect --source nanodet on a TUM sequence is repeatable byte for byte") {
+TEST_CASE("cli: detect --source nanodet on a TUM sequence is repeatable byte for byte", "[cli]") {
   const std::string dir = ScratchDir("detect_cli_tum");
   const auto a = RunDynref("detect --source nanodet " + kSeq + " --frames 0-1 --out " + dir + "/a");
   INFO(a.output);
@@ -50,7 +50,7 @@ TEST_CASE("cli: detect --source nanodet on a TUM sequence is repeatable byte for
   CHECK(Slurp(dir + "/a/1305031453.359684.txt") == Slurp(dir + "/c/1305031453.359684.txt"));
 }
 
-TEST_CASE("cli: detect exits 2 with a clear message for bad models, corrupt masks, bad ranges") {
+TEST_CASE("cli: detect exits 2 with a clear message for bad models, corrupt masks, bad ranges", "[cli]") {
   const std::string img = "--image '" + SourcePath("tests/data/darknet/person.jpg") + "'";
   const auto no_model = RunDynref("detect --source nanodet --model /nonexistent.onnx " + img);
   CHECK(no_model.exit_code == 2);
@@ -97,7 +97,7 @@ TEST_CASE("cli: detect exits 2 with a clear message for bad models, corrupt mask
   CHECK(RunDynref("detect --help").exit_code == 0);
 }
 
-TEST_CASE("cli: detect rejects out-of-range thresholds and an empty --frames before any work") {
+TEST_CASE("cli: detect rejects out-of-range thresholds and an empty --frames before any work", "[cli]") {
   using dynref::test::ExpectBadInput;
   const std::string dir = ScratchDir("detect_cli_thresholds");
   const std::string img = "--image '" + SourcePath("tests/data/darknet/person.jpg") + "'";
@@ -117,7 +117,7 @@ TEST_CASE("cli: detect rejects out-of-range thresholds and an empty --frames bef
   CHECK(RunDynref("detect --source nanodet --conf 1 --no-masks " + img).exit_code == 0);
 }
 
-TEST_CASE("cli: detect --source labels: rejects masks of another size than the sequence's camera (issue 20 item 7)") {
+TEST_CASE("cli: detect --source labels: rejects masks of another size than the sequence's camera (issue 20 item 7)", "[cli]") {
   const std::string dir = ScratchDir("cli_detect_label_size");
   std::filesystem::create_directories(dir + "/labels");
   cv::Mat lab = cv::Mat::zeros(240, 320, CV_8U);  // the sequence is 640x480
@@ -130,7 +130,7 @@ TEST_CASE("cli: detect --source labels: rejects masks of another size than the s
   CHECK(r.output.find("mask is 320x240 but the sequence's camera is 640x480") != std::string::npos);
 }
 
-TEST_CASE("cli: a failed detect rerun leaves the earlier folder whole (issue 20 item 6)") {
+TEST_CASE("cli: a failed detect rerun leaves the earlier folder whole (issue 20 item 6)", "[cli]") {
   const std::string dir = ScratchDir("cli_detect_rerun");
   const std::string out = dir + "/det";
   REQUIRE(RunDynref("detect --source hog " + kSeq + " --out '" + out + "' --frames 0-1").exit_code == 0);
@@ -178,7 +178,7 @@ std::string TinySequence(const std::string& dir, int width, int height) {
 
 }  // namespace
 
-TEST_CASE("cli: detect --source hog on images smaller than the HOG window: no detections, no crash (issue 37)") {
+TEST_CASE("cli: detect --source hog on images smaller than the HOG window: no detections, no crash (issue 37)", "[cli]") {
   const std::string dir = ScratchDir("cli_detect_hog_small");
   for (const cv::Size size : {cv::Size(16, 16), cv::Size(32, 32), cv::Size(48, 64), cv::Size(64, 48)}) {
     const std::string name = std::to_string(size.width) + "x" + std::to_string(size.height);
@@ -194,7 +194,7 @@ TEST_CASE("cli: detect --source hog on images smaller than the HOG window: no de
   }
 }
 
-TEST_CASE("cli: run --method blur --detector hog on a 64x48 sequence finishes (issue 37) end to end") {
+TEST_CASE("cli: run --method blur --detector hog on a 64x48 sequence finishes (issue 37) end to end", "[cli]") {
   const std::string dir = ScratchDir("cli_run_hog_64x48");
   const std::string seq = TinySequence(dir, 64, 48);
   const std::string out = dir + "/run";

@@ -25,7 +25,7 @@ std::vector<NanodetLevel> EmptyNanodet() {
   return levels;
 }
 
-Candidate Box(int cls, double score, double x0, double y0, double x1, double y1, int anchor) {
+Candidate Cand(int cls, double score, double x0, double y0, double x1, double y1, int anchor) {
   Candidate c;
   c.class_id = cls;
   c.score = score;
@@ -101,11 +101,11 @@ TEST_CASE("decode: NanoDet rejects tensors of the wrong shape") {
 
 TEST_CASE("decode: per-class NMS is greedy per class and order independent") {
   std::vector<Candidate> in = {
-      Box(0, 0.8, 0, 0, 100, 100, 4),     // kept
-      Box(0, 0.7, 10, 10, 110, 110, 2),   // IoU 0.68 with the first: suppressed
-      Box(56, 0.6, 10, 10, 110, 110, 3),  // other class: kept
-      Box(0, 0.5, 200, 200, 250, 250, 1), // far away: kept
-      Box(0, 0.8, 5, 0, 105, 100, 7),     // same score as anchor 4, higher anchor: suppressed
+      Cand(0, 0.8, 0, 0, 100, 100, 4),     // kept
+      Cand(0, 0.7, 10, 10, 110, 110, 2),   // IoU 0.68 with the first: suppressed
+      Cand(56, 0.6, 10, 10, 110, 110, 3),  // other class: kept
+      Cand(0, 0.5, 200, 200, 250, 250, 1), // far away: kept
+      Cand(0, 0.8, 5, 0, 105, 100, 7),     // same score as anchor 4, higher anchor: suppressed
   };
   const auto out = PerClassNms(in, 0.5, 100);
   REQUIRE(out.size() == 3);
@@ -179,7 +179,7 @@ TEST_CASE("decode: YOLO-seg mask = sigmoid(coefficients . prototypes), cropped t
   proto0.setTo(-10.f);
   proto0(cv::Rect(40, 40, 80, 40)).setTo(10.f);  // x 40..119, y 40..79 in prototype pixels
   const Letterbox lb = ComputeLetterbox(640, 640, 640);  // prototypes are 1/4 of the image
-  const Candidate box = Box(0, 0.9, 100, 100, 600, 400, 0);
+  const Candidate box = Cand(0, 0.9, 100, 100, 600, 400, 0);
   const cv::Mat m = DecodeYoloMask(p, protos, box, lb);
   REQUIRE(m.type() == CV_8U);
   REQUIRE(m.size() == cv::Size(640, 640));
@@ -188,11 +188,11 @@ TEST_CASE("decode: YOLO-seg mask = sigmoid(coefficients . prototypes), cropped t
   CHECK(m.at<uchar>(350, 300) == 0);
   CHECK(std::abs(cv::countNonZero(m) - 320 * 160) < 0.05 * 320 * 160);
   // Cropped to the box: nothing right of x = 300 for a narrower box.
-  const cv::Mat narrow = DecodeYoloMask(p, protos, Box(0, 0.9, 0, 0, 300, 640, 0), lb);
+  const cv::Mat narrow = DecodeYoloMask(p, protos, Cand(0, 0.9, 0, 0, 300, 640, 0), lb);
   CHECK(cv::countNonZero(narrow(cv::Rect(300, 0, 340, 640))) == 0);
   CHECK(cv::countNonZero(narrow) > 0);
   // Negative coefficient: the region is off, the rest of the box on.
-  const cv::Mat inverse = DecodeYoloMask(p, protos, Box(0, 0.9, 100, 100, 600, 400, 1), lb);
+  const cv::Mat inverse = DecodeYoloMask(p, protos, Cand(0, 0.9, 100, 100, 600, 400, 1), lb);
   CHECK(inverse.at<uchar>(240, 300) == 0);
   CHECK(inverse.at<uchar>(380, 500) == 255);
   CHECK(inverse.at<uchar>(450, 500) == 0);  // outside the box

@@ -17,14 +17,14 @@ using dynref::test::SourcePath;
 
 namespace {
 
-const std::string kSeq = SourcePath("datasets/real/tum_fr3_walking_halfsphere_3frames");
+const std::string kRealSeq = SourcePath("datasets/real/tum_fr3_walking_halfsphere_3frames");
 const std::string kBoxes = SourcePath("datasets/real/tum_fr3_walking_halfsphere_10rgb_person_boxes.txt");
 
 // Detections of the 3 frames, made once per test binary run.
 const std::string& Detections() {
   static const std::string dir = [] {
     const std::string d = ScratchDir("real_people_det") + "/det";
-    const auto r = RunDynref("detect --source nanodet --sequence " + Quote(kSeq) + " --camera tum_fr3 --out " + Quote(d));
+    const auto r = RunDynref("detect --source nanodet --sequence " + Quote(kRealSeq) + " --camera tum_fr3 --out " + Quote(d));
     INFO(r.output);
     REQUIRE(r.exit_code == 0);
     return d;
@@ -36,7 +36,7 @@ nlohmann::json RunJson(const std::string& run_dir) { return nlohmann::json::pars
 
 }  // namespace
 
-TEST_CASE("real people: dynref info prints NanoDet's person scores and recall against the hand boxes") {
+TEST_CASE("real people: dynref info prints NanoDet's person scores and recall against the hand boxes", "[cli]") {
   const auto r = RunDynref("info " + Quote(Detections()) + " --boxes " + Quote(kBoxes));
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
@@ -48,13 +48,13 @@ TEST_CASE("real people: dynref info prints NanoDet's person scores and recall ag
   CHECK_THAT(r.output, Catch::Contains("precision 2/2 = 1.000"));
 }
 
-TEST_CASE("real people: blur and mgd use NanoDet's people at the calibrated threshold and warn at the raw one") {
+TEST_CASE("real people: blur and mgd use NanoDet's people at the calibrated threshold and warn at the raw one", "[cli]") {
   const std::string dir = ScratchDir("real_people_run");
   for (const std::string method : {"blur", "mgd"}) {
     INFO(method);
     const std::string stage = method == "blur" ? "blur.mask" : "mgd.boxes";
     const std::string scale_key = method == "blur" ? "blur.mask.threshold_scale" : "mgd.probability.threshold_scale";
-    const std::string base = "run --method " + method + " --sequence " + Quote(kSeq) + " --camera tum_fr3 --detections " +
+    const std::string base = "run --method " + method + " --sequence " + Quote(kRealSeq) + " --camera tum_fr3 --detections " +
                              Quote(Detections()) + " --no-progress --out ";
     const auto cal = RunDynref(base + Quote(dir + "/" + method + "_cal"));
     INFO(cal.output);
@@ -85,9 +85,9 @@ TEST_CASE("real people: blur and mgd use NanoDet's people at the calibrated thre
   }
 }
 
-TEST_CASE("real people: --temporal-gap carries the person NanoDet misses in the motion-blurred frame") {
+TEST_CASE("real people: --temporal-gap carries the person NanoDet misses in the motion-blurred frame", "[cli]") {
   const std::string d = ScratchDir("real_people_temporal") + "/det";
-  const auto r = RunDynref("detect --source nanodet --no-masks --temporal-gap 2 --sequence " + Quote(kSeq) +
+  const auto r = RunDynref("detect --source nanodet --no-masks --temporal-gap 2 --sequence " + Quote(kRealSeq) +
                            " --camera tum_fr3 --out " + Quote(d));
   INFO(r.output);
   REQUIRE(r.exit_code == 0);

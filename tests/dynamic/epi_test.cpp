@@ -158,7 +158,7 @@ TEST_CASE("epi mask vote: more than 60 % violating is dynamic, exactly 60 % is n
   CHECK(v.at(4).dynamic);
 }
 
-TEST_CASE("epi end to end: dynref enhance, and A + C on a low-light walking sequence") {
+TEST_CASE("epi end to end: dynref enhance, and A + C on a low-light walking sequence", "[cli]") {
   const std::string dir = test::ScratchDir("epi_e2e");
   synth::SynthOptions so;
   so.preset = "walking_xyz", so.frames = 60, so.seed = 3, so.low_light = true, so.detections = "yolo-like";

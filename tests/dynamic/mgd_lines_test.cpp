@@ -11,7 +11,7 @@ using namespace dynref;
 
 namespace {
 
-Camera TestCamera() {
+Camera LinesTestCamera() {
   Camera c = {};
   c.name = "test";
   c.width = 320, c.height = 240;
@@ -45,7 +45,7 @@ void SetLines(Frame& f, int index, const std::vector<FrameLine>& lines) {
 }  // namespace
 
 TEST_CASE("mgd line samples: Flag_d per sample s, m, e") {
-  const Camera cam = TestCamera();
+  const Camera cam = LinesTestCamera();
   Frame f;
   SetLines(f, 0, {Line({100, 100}, {200, 100}, cam, 2)});
   FrameDetections det;
@@ -64,7 +64,7 @@ TEST_CASE("mgd line samples: Flag_d per sample s, m, e") {
 }
 
 TEST_CASE("mgd line samples: planted pair, reversed correspondence, hand-computed cues in both forms") {
-  const Camera cam = TestCamera();
+  const Camera cam = LinesTestCamera();
   // Previous line (100,100)-(200,100) at 2 m; the current one moved 3 px down and was detected the
   // other way round: s' = (203,103) pairs with the previous e = (200,100), e' with the previous s.
   Frame prev, cur;
@@ -132,7 +132,7 @@ TEST_CASE("mgd line samples: planted pair, reversed correspondence, hand-compute
 }
 
 TEST_CASE("mgd line samples: a line is out above tau_dyn by its largest sample, else weight 1 - max P") {
-  const Camera cam = TestCamera();
+  const Camera cam = LinesTestCamera();
   Frame f;
   SetLines(f, 3, {Line({100, 100}, {200, 100}, cam, 2), Line({100, 150}, {200, 150}, cam, 2)});
   Map map;

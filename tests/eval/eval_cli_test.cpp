@@ -20,7 +20,7 @@ const std::string kTraj =
 
 }  // namespace
 
-TEST_CASE("eval cli: bad trajectories exit 2 naming file and line") {
+TEST_CASE("eval cli: bad trajectories exit 2 naming file and line", "[cli]") {
   const std::string d = dynref::test::ScratchDir("eval_cli_bad");
   const std::string gt = WriteText(d + "/gt.txt", kTraj);
   auto eval = [&](const std::string& est) { return "eval --gt " + Quote(gt) + " --est " + Quote(est); };
@@ -52,7 +52,7 @@ TEST_CASE("eval cli: bad trajectories exit 2 naming file and line") {
   ExpectBadInput(eval(gt) + " --max-diff -1", "--max-diff");
 }
 
-TEST_CASE("eval cli: --json is written atomically and runs are byte-identical") {
+TEST_CASE("eval cli: --json is written atomically and runs are byte-identical", "[cli]") {
   const std::string d = dynref::test::ScratchDir("eval_cli_json");
   const std::string gt = dynref::test::SourcePath("datasets/real/trajectories/fr2_desk_groundtruth.txt");
   const std::string est = dynref::test::SourcePath("datasets/real/trajectories/fr2_desk_ORB.txt");
@@ -77,7 +77,7 @@ TEST_CASE("eval cli: --json is written atomically and runs are byte-identical") 
 }
 
 
-TEST_CASE("eval cli: --offset and --save-rpe (evaluate_rpe.py --offset / --save)") {
+TEST_CASE("eval cli: --offset and --save-rpe (evaluate_rpe.py --offset / --save)", "[cli]") {
   const std::string d = dynref::test::ScratchDir("eval_cli_offset");
   const std::string gt = WriteText(d + "/gt.txt", kTraj);
   // The estimate repeats the gt poses with stamps 1/32 s late; --offset -0.03125 undoes that.
@@ -100,7 +100,7 @@ TEST_CASE("eval cli: --offset and --save-rpe (evaluate_rpe.py --offset / --save)
   CHECK(no_offset.output.find("translational [m]  rmse 0.000000  mean") == std::string::npos);
 }
 
-TEST_CASE("eval cli: --align sim3 on a constant estimate exits 2 with a clear message") {
+TEST_CASE("eval cli: --align sim3 on a constant estimate exits 2 with a clear message", "[cli]") {
   const std::string d = dynref::test::ScratchDir("eval_cli_sim3_constant");
   const std::string gt = WriteText(d + "/gt.txt", kTraj);
   const std::string est = WriteText(d + "/const.txt", "1.0 0.5 0 0 0 0 0 1\n1.03125 0.5 0 0 0 0 0 1\n"
@@ -113,7 +113,7 @@ TEST_CASE("eval cli: --align sim3 on a constant estimate exits 2 with a clear me
   CHECK(se3.exit_code == 0);
 }
 
-TEST_CASE("eval cli: a clip shorter than delta says so and still prints ATE (issue 20 item 10)") {
+TEST_CASE("eval cli: a clip shorter than delta says so and still prints ATE (issue 20 item 10)", "[cli]") {
   const std::string d = dynref::test::ScratchDir("eval_cli_short_clip");
   const std::string gt = WriteText(d + "/gt.txt", kTraj);  // 5 poses over 0.125 s: stamps overlap
   const auto r = RunDynref("eval --gt " + Quote(gt) + " --est " + Quote(gt));  // default delta 1 s
@@ -124,7 +124,7 @@ TEST_CASE("eval cli: a clip shorter than delta says so and still prints ATE (iss
   CHECK(r.output.find("do the stamps overlap") == std::string::npos);  // the wrong hint is gone
 }
 
-TEST_CASE("eval cli: a frame delta must be a whole number, a seconds delta must not pair a pose with itself (issue 37)") {
+TEST_CASE("eval cli: a frame delta must be a whole number, a seconds delta must not pair a pose with itself (issue 37)", "[cli]") {
   const std::string d = dynref::test::ScratchDir("eval_cli_delta_range");
   const std::string gt = WriteText(d + "/gt.txt", kTraj);  // 5 poses, 31.25 ms apart
   const std::string base = "eval --gt " + Quote(gt) + " --est " + Quote(gt);

@@ -65,7 +65,7 @@ TEST_CASE("figures: evo_ape tum GT EST -a --t_max_diff 0.02") {
   CHECK(F(r.stats.sse) == "0.147643");
 }
 
-TEST_CASE("figures: dynref eval prints them and states every choice") {
+TEST_CASE("figures: dynref eval prints them and states every choice", "[cli]") {
   const std::string args =
       "eval --gt '" + test::SourcePath(kGt) + "' --est '" + test::SourcePath(kEst) + "'";
   const auto tum = test::RunDynref(args);

@@ -60,7 +60,7 @@ TEST_CASE("map-eval: mesh distance equals a brute-force reference near and far f
   }
 }
 
-TEST_CASE("map-eval: accuracy, completeness and ghosts of a hand-built map") {
+TEST_CASE("map-eval: accuracy, completeness and ghosts of a hand-built map", "[cli]") {
   const dense::TriangleMesh plane = Square();
   dense::PointCloud observed, movers;
   for (int i = 0; i < 10; ++i)
@@ -97,7 +97,7 @@ TEST_CASE("map-eval: PLY mesh round trip and bad mesh files") {
                     Catch::Contains("x.ply") && Catch::Contains("not a dynref triangle-mesh PLY"));
 }
 
-TEST_CASE("map-eval CLI: the synthetic truth scores itself perfectly, a mover cloud is all ghosts") {
+TEST_CASE("map-eval CLI: the synthetic truth scores itself perfectly, a mover cloud is all ghosts", "[cli]") {
   const std::string dir = test::ScratchDir("map_eval_cli");
   REQUIRE(test::RunDynref("synth --preset walking_xyz --frames 5 --seed 1 --out " + dir + "/seq").exit_code == 0);
   for (const char* f : {"static_scene.ply", "static_observed.ply", "movers_observed.ply"})
@@ -119,7 +119,7 @@ TEST_CASE("map-eval CLI: the synthetic truth scores itself perfectly, a mover cl
   test::ExpectBadInput("map-eval " + dir + "/seq/groundtruth.txt --gt " + dir + "/seq", ".ply or .pcd");
 }
 
-TEST_CASE("map-eval CLI: an empty map, a NaN point, undeclared vertices and a negative count exit 2 naming the file (issue 37)") {
+TEST_CASE("map-eval CLI: an empty map, a NaN point, undeclared vertices and a negative count exit 2 naming the file (issue 37)", "[cli]") {
   const std::string dir = test::ScratchDir("map_eval_cli_bad_maps");
   REQUIRE(test::RunDynref("synth --preset walking_xyz --frames 3 --seed 1 --out " + dir + "/seq").exit_code == 0);
   const std::string tail = " --gt " + dir + "/seq --trajectory " + dir + "/seq/groundtruth.txt";

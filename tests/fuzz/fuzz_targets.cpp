@@ -25,7 +25,7 @@ std::string Slurp(const std::string& path) {
   if (!f) throw std::runtime_error("fuzz: cannot read seed " + path);
   return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
 }
-void Spit(const std::string& path, const std::string& bytes) {
+void WriteBytesTo(const std::string& path, const std::string& bytes) {
   fs::create_directories(fs::path(path).parent_path());
   std::ofstream f(path, std::ios::binary);
   f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -65,7 +65,7 @@ std::vector<Seed> SetupSequence(const std::string& work) {
   WriteOrbSlamCameraYaml(TinyCamera(), work + "/camera.yaml");
   std::vector<Seed> seeds = {{"rgb.txt", rgb}, {"depth.txt", depth}, {"groundtruth.txt", gt},
                              {"camera.yaml", Slurp(work + "/camera.yaml")}};
-  for (const Seed& s : seeds) Spit(work + "/" + s.file, s.bytes);
+  for (const Seed& s : seeds) WriteBytesTo(work + "/" + s.file, s.bytes);
   seeds.push_back({"rgb/1305031102.100.png", Slurp(work + "/rgb/1305031102.100.png")});
   seeds.push_back({"depth/1305031102.100.png", Slurp(work + "/depth/1305031102.100.png")});
   return seeds;
@@ -119,7 +119,7 @@ std::vector<Seed> SetupLabels(const std::string& work) {
   png(cv::Rect(2, 2, 10, 10)).setTo(1);
   png(cv::Rect(20, 5, 8, 30)).setTo(2);
   png(cv::Rect(40, 30, 3, 3)).setTo(7);
-  Spit(work + "/labels.yaml", yaml);
+  WriteBytesTo(work + "/labels.yaml", yaml);
   cv::imwrite(work + "/1305031102.100.png", png);
   return {{"labels.yaml", yaml},
           {"labels.yaml", "png_kind: semantic\nlabels:\n  1: person\n  2: chair\n  7: dog\n"},

@@ -2,6 +2,6 @@
 // (configs/mgd.yaml with 300 features). See method_golden.h.
 #include "method_golden.h"
 
-TEST_CASE("mgd golden: 30-frame walking_xyz trace is unchanged") {
+TEST_CASE("mgd golden: 30-frame walking_xyz trace is unchanged", "[cli][golden]") {
   dynref::test::CheckMethodGolden("mgd", "golden/mgd_30f", "mgd_golden.yaml");
 }

@@ -3,6 +3,6 @@
 // optimisation and local BA, every frame line / plane geometry record. See method_golden.h.
 #include "method_golden.h"
 
-TEST_CASE("mgd-nd golden: 30-frame walking_xyz trace with line and plane residuals is unchanged") {
+TEST_CASE("mgd-nd golden: 30-frame walking_xyz trace with line and plane residuals is unchanged", "[cli][golden]") {
   dynref::test::CheckMethodGolden("mgd-nd", "golden/mgd_nd_30f", "mgd_nd_golden.yaml");
 }

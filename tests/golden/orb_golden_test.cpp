@@ -14,7 +14,7 @@
 
 namespace fs = std::filesystem;
 
-TEST_CASE("orb golden: 30-frame static_xyz run is unchanged") {
+TEST_CASE("orb golden: 30-frame static_xyz run is unchanged", "[cli][golden]") {
   const std::string dir = dynref::test::ScratchDir("orb_golden");
   dynref::synth::SynthOptions so;
   so.preset = "static_xyz";

@@ -3,6 +3,6 @@
 // pixel, no intermediate clouds). See method_golden.h.
 #include "method_golden.h"
 
-TEST_CASE("semantic golden: 30-frame walking_xyz trace is unchanged") {
+TEST_CASE("semantic golden: 30-frame walking_xyz trace is unchanged", "[cli][golden]") {
   dynref::test::CheckMethodGolden("semantic", "golden/semantic_30f", "semantic_golden.yaml");
 }

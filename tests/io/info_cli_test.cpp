@@ -41,7 +41,7 @@ void MakeSequence(const std::string& dir, int n, int depth_type, cv::Size depth_
 
 }  // namespace
 
-TEST_CASE("info cli: real sequence and bad sequence folders exit 2 naming file and line") {
+TEST_CASE("info cli: real sequence and bad sequence folders exit 2 naming file and line", "[cli]") {
   const auto real = RunDynref("info " + Quote(dynref::test::SourcePath("datasets/real/tum_fr1_desk_9frames")));
   INFO(real.output);
   REQUIRE(real.exit_code == 0);
@@ -110,7 +110,7 @@ TEST_CASE("info cli: real sequence and bad sequence folders exit 2 naming file a
   CHECK(with_cam.output.find(nocam + "/rgb.txt:2:") != std::string::npos);
 }
 
-TEST_CASE("info cli: a missing or out-of-range --camera YAML exits 2 naming file and line") {
+TEST_CASE("info cli: a missing or out-of-range --camera YAML exits 2 naming file and line", "[cli]") {
   const std::string base = dynref::test::ScratchDir("info_cli_camera");
   const std::string seq = base + "/seq";
   ::mkdir(seq.c_str(), 0755);

@@ -13,7 +13,7 @@ using namespace dynref;
 
 namespace {
 
-std::string WriteText(const std::string& dir, const std::string& name, const std::string& text) {
+std::string WriteFileIn(const std::string& dir, const std::string& name, const std::string& text) {
   const std::string path = dir + "/" + name;
   std::ofstream(path) << text;
   return path;
@@ -45,13 +45,13 @@ const char* kGood =
 
 TEST_CASE("trajectory: reads comments, separators, normalises near-unit quaternions") {
   const std::string dir = test::ScratchDir("io_traj_read");
-  const TumTrajectory t = ReadTumTrajectory(WriteText(dir, "good.txt", kGood));
+  const TumTrajectory t = ReadTumTrajectory(WriteFileIn(dir, "good.txt", kGood));
   REQUIRE(t.poses.size() == 3);
   CHECK(t.lines == std::vector<int>{2, 3, 4});
   CHECK(t.poses[1].stamp == 1.1);
   CHECK(t.poses[2].T_wc.translation().x() == 0.2);
   const TumTrajectory n = ReadTumTrajectory(
-      WriteText(dir, "near.txt", "1 0 0 0 0 0 0 1.0009\n2 0 0 0 0.7071 0 0 0.7071\n"));
+      WriteFileIn(dir, "near.txt", "1 0 0 0 0 0 0 1.0009\n2 0 0 0 0.7071 0 0 0.7071\n"));
   CHECK(n.quaternions_normalised == 2);
   CHECK(n.poses[0].T_wc.linear().isApprox(Eigen::Matrix3d::Identity(), 1e-15));
   CHECK(std::abs(Eigen::Quaterniond(n.poses[1].T_wc.linear()).norm() - 1.0) < 1e-12);
@@ -60,33 +60,33 @@ TEST_CASE("trajectory: reads comments, separators, normalises near-unit quaterni
 TEST_CASE("trajectory: every bad input names file and line") {
   const std::string dir = test::ScratchDir("io_traj_bad");
   ExpectError(dir + "/missing.txt", 0, "file not found");
-  ExpectError(WriteText(dir, "fields.txt", "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n"), 2,
+  ExpectError(WriteFileIn(dir, "fields.txt", "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 1\n"), 2,
               "malformed line");
-  ExpectError(WriteText(dir, "nonnum.txt", "# c\n1 0 0 0 0 0 0 1\n2 0 zero 0 0 0 0 1\n"), 3,
+  ExpectError(WriteFileIn(dir, "nonnum.txt", "# c\n1 0 0 0 0 0 0 1\n2 0 zero 0 0 0 0 1\n"), 3,
               "field ty 'zero' is not a number");
-  ExpectError(WriteText(dir, "stamp.txt", "1x 0 0 0 0 0 0 1\n"), 1, "timestamp '1x'");
-  ExpectError(WriteText(dir, "nan.txt", "1 0 0 0 0 0 0 1\n2 nan 0 0 0 0 0 1\n"), 2,
+  ExpectError(WriteFileIn(dir, "stamp.txt", "1x 0 0 0 0 0 0 1\n"), 1, "timestamp '1x'");
+  ExpectError(WriteFileIn(dir, "nan.txt", "1 0 0 0 0 0 0 1\n2 nan 0 0 0 0 0 1\n"), 2,
               "NaN/inf pose");
-  ExpectError(WriteText(dir, "inf.txt", "1 0 0 0 0 0 0 1\n2 0 0 -inf 0 0 0 1\n"), 2,
+  ExpectError(WriteFileIn(dir, "inf.txt", "1 0 0 0 0 0 0 1\n2 0 0 -inf 0 0 0 1\n"), 2,
               "NaN/inf pose");
   // issue 20 item 9: tx = 1e300 gave "rmse inf ... std -nan" with exit 0 in dynref eval.
-  ExpectError(WriteText(dir, "huge.txt", "1 0 0 0 0 0 0 1\n2 1e300 0 0 0 0 0 1\n"), 2, "beyond 1e9 m");
-  ExpectError(WriteText(dir, "quat.txt", "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1.01\n"), 2,
+  ExpectError(WriteFileIn(dir, "huge.txt", "1 0 0 0 0 0 0 1\n2 1e300 0 0 0 0 0 1\n"), 2, "beyond 1e9 m");
+  ExpectError(WriteFileIn(dir, "quat.txt", "1 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1.01\n"), 2,
               "quaternion not normalised");
-  ExpectError(WriteText(dir, "zeroq.txt", "1 0 0 0 0 0 0 0\n"), 1, "quaternion not normalised");
-  ExpectError(WriteText(dir, "order.txt", "1 0 0 0 0 0 0 1\n3 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n"),
+  ExpectError(WriteFileIn(dir, "zeroq.txt", "1 0 0 0 0 0 0 0\n"), 1, "quaternion not normalised");
+  ExpectError(WriteFileIn(dir, "order.txt", "1 0 0 0 0 0 0 1\n3 0 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n"),
               3, "timestamps not increasing");
-  ExpectError(WriteText(dir, "empty.txt", "# only a comment\n\n"), 0, "no poses");
+  ExpectError(WriteFileIn(dir, "empty.txt", "# only a comment\n\n"), 0, "no poses");
   TumReadOptions strict;
   strict.duplicates = DuplicateStamps::kError;
-  ExpectError(WriteText(dir, "dup.txt", "1 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n"), 2,
+  ExpectError(WriteFileIn(dir, "dup.txt", "1 0 0 0 0 0 0 1\n1 1 0 0 0 0 0 1\n"), 2,
               "duplicate timestamp", strict);
 }
 
 TEST_CASE("trajectory: duplicate stamps kept last (TUM) or all (evo)") {
   const std::string dir = test::ScratchDir("io_traj_dup");
   const std::string path =
-      WriteText(dir, "dup.txt", "1 0 0 0 0 0 0 1\n1 5 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n");
+      WriteFileIn(dir, "dup.txt", "1 0 0 0 0 0 0 1\n1 5 0 0 0 0 0 1\n2 0 0 0 0 0 0 1\n");
   const TumTrajectory last = ReadTumTrajectory(path);
   REQUIRE(last.poses.size() == 2);
   CHECK(last.poses[0].T_wc.translation().x() == 5.0);
@@ -139,5 +139,5 @@ TEST_CASE("trajectory: writer round-trips exactly and leaves no temp file") {
 
 TEST_CASE("text inputs: a UTF-8 byte-order mark is named (issue 20 item 10)") {
   const std::string dir = test::ScratchDir("io_bom");
-  ExpectError(WriteText(dir, "bom.txt", "\xEF\xBB\xBF" "1 0 0 0 0 0 0 1\n"), 1, "UTF-8 byte-order mark");
+  ExpectError(WriteFileIn(dir, "bom.txt", "\xEF\xBB\xBF" "1 0 0 0 0 0 0 1\n"), 1, "UTF-8 byte-order mark");
 }

@@ -90,6 +90,30 @@ TEST_CASE("loop detector: a revisited place becomes a loop after three consisten
   for (size_t i = 0; i < a.candidates.size(); ++i) CHECK(a.candidates[i].kf == b.candidates[i].kf);
 }
 
+TEST_CASE("loop detector: min_score comes from the covisibles of weight >= 15, not from every connection") {
+  // ORB-SLAM2 DetectLoop takes minScore over GetVectorCovisibleKeyFrames (weight >= 15); a keyframe
+  // sharing a few points (here 3, a noise image) is excluded from the candidates but sets no bar.
+  const Sequence seq = test::Fr1Desk();
+  features::OrbExtractor ex{features::OrbOptions{}};
+  tracking::PlaceIndex index("default");
+  Map map;
+  KeyFrame* desk = AddKeyFrame(map, index, test::LoadRealFrame(seq, 0, ex));
+  KeyFrame* noise = AddKeyFrame(map, index, Noise(test::LoadRealFrame(seq, 8, ex), ex, 201));
+  KeyFrame* kf = AddKeyFrame(map, index, test::LoadRealFrame(seq, 1, ex));
+  Connect(*kf, *desk);
+  kf->connections[noise->id] = 3;  // GetConnectedKeyFrames only
+  noise->connections[kf->id] = 3;
+  loop::LoopDetectorOptions o;
+  o.min_keyframes_since_loop = 0;
+  const loop::LoopDetection d = loop::LoopDetector{o}.Detect(*kf, map, index);
+  REQUIRE_FALSE(d.skipped);
+  const float desk_score = static_cast<float>(index.vocabulary().Score(index.Of(kf->id)->bow, index.Of(desk->id)->bow));
+  const float noise_score = static_cast<float>(index.vocabulary().Score(index.Of(kf->id)->bow, index.Of(noise->id)->bow));
+  REQUIRE(noise_score < desk_score);
+  CHECK(d.min_score == desk_score);
+  CHECK(d.candidates.empty());  // both keyframes are connected: never loop candidates
+}
+
 TEST_CASE("loop detector: options are checked") {
   loop::LoopDetectorOptions o;
   o.consistency = 0;

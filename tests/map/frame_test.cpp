@@ -22,7 +22,7 @@ Frame MakeFrame(const Camera& cam) {
   f.FinishFeatures(cam);
   return f;
 }
-Camera Cam() {
+Camera FrameCam() {
   Camera c;
   c.fx = c.fy = 500;
   c.cx = 320;
@@ -33,7 +33,7 @@ Camera Cam() {
 }  // namespace
 
 TEST_CASE("frame: depth per key and virtual right u = u - bf / z") {
-  const Camera cam = Cam();
+  const Camera cam = FrameCam();
   const Frame f = MakeFrame(cam);
   REQUIRE(f.N() == 20);
   CHECK(f.depth[0] == Approx(2.0));
@@ -47,7 +47,7 @@ TEST_CASE("frame: depth per key and virtual right u = u - bf / z") {
 }
 
 TEST_CASE("frame: area search honours radius, levels and exclusion") {
-  const Camera cam = Cam();
+  const Camera cam = FrameCam();
   Frame f = MakeFrame(cam);
   auto in = f.FeaturesInArea(100.f, 100.f, 16.f);
   REQUIRE(in.size() == 1);
@@ -67,7 +67,7 @@ TEST_CASE("frame: area search honours radius, levels and exclusion") {
 }
 
 TEST_CASE("frame: weights default to 1 and are per feature") {
-  const Camera cam = Cam();
+  const Camera cam = FrameCam();
   Frame f = MakeFrame(cam);
   CHECK(f.Weight(5) == 1.0);
   f.SetWeight(5, 0.25);
@@ -77,7 +77,7 @@ TEST_CASE("frame: weights default to 1 and are per feature") {
 }
 
 TEST_CASE("frame: depth_edge_rel drops the depth of keypoints on depth discontinuities only") {
-  const Camera cam = Cam();
+  const Camera cam = FrameCam();
   Frame f;
   f.depth_m = cv::Mat(cam.height, cam.width, CV_32F, cv::Scalar(2.0f));
   f.depth_m(cv::Rect(300, 0, 340, cam.height)).setTo(3.0f);  // a 1 m step at column 300
@@ -105,7 +105,7 @@ TEST_CASE("frame: depth_edge_rel drops the depth of keypoints on depth discontin
 }
 
 TEST_CASE("frame: the association an exclusion or DropAssociation removes is remembered (trace OBS)") {
-  const Camera cam = Cam();
+  const Camera cam = FrameCam();
   Frame f = MakeFrame(cam);
   for (int i = 0; i < 20; ++i) CHECK(f.AssociatedMapPoint(i) == -1);  // never associated
   f.map_point_ids[2] = 40;

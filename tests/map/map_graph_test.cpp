@@ -9,7 +9,7 @@ using namespace dynref;
 
 namespace {
 
-Camera Cam() {
+Camera GraphCam() {
   Camera c;
   c.fx = c.fy = 500;
   c.cx = 320;
@@ -18,8 +18,8 @@ Camera Cam() {
 }
 
 // A keyframe with n keypoints on a grid, all at 2 m depth (RGB-D: every observation counts 2).
-std::unique_ptr<KeyFrame> MakeKf(int n, double x) {
-  const Camera cam = Cam();
+std::unique_ptr<KeyFrame> GraphKf(int n, double x) {
+  const Camera cam = GraphCam();
   auto kf = std::make_unique<KeyFrame>();
   Frame& f = kf->frame;
   f.depth_m = cv::Mat(cam.height, cam.width, CV_32F, cv::Scalar(2.0f));
@@ -44,10 +44,10 @@ void Share(Map& map, const std::vector<KeyFrame*>& kfs, int first, int count) {
 
 TEST_CASE("map covisibility: weights are symmetric, ordered by weight then id, filtered by count and weight") {
   Map map;
-  KeyFrame* a = map.AddKeyFrame(MakeKf(100, 0));
-  KeyFrame* b = map.AddKeyFrame(MakeKf(100, 0.1));
-  KeyFrame* c = map.AddKeyFrame(MakeKf(100, 0.2));
-  KeyFrame* d = map.AddKeyFrame(MakeKf(100, 0.3));
+  KeyFrame* a = map.AddKeyFrame(GraphKf(100, 0));
+  KeyFrame* b = map.AddKeyFrame(GraphKf(100, 0.1));
+  KeyFrame* c = map.AddKeyFrame(GraphKf(100, 0.2));
+  KeyFrame* d = map.AddKeyFrame(GraphKf(100, 0.3));
   Share(map, {a, b}, 0, 30);
   Share(map, {a, d}, 30, 20);
   Share(map, {a, c}, 50, 20);  // the same weight as d: the lower id (c) comes first
@@ -71,9 +71,9 @@ TEST_CASE("map covisibility: weights are symmetric, ordered by weight then id, f
 
 TEST_CASE("map culling: the culled keyframe's observations go, its points survive with enough others") {
   Map map;
-  KeyFrame* k0 = map.AddKeyFrame(MakeKf(40, 0));
-  KeyFrame* k1 = map.AddKeyFrame(MakeKf(40, 0.1));
-  KeyFrame* k2 = map.AddKeyFrame(MakeKf(40, 0.2));
+  KeyFrame* k0 = map.AddKeyFrame(GraphKf(40, 0));
+  KeyFrame* k1 = map.AddKeyFrame(GraphKf(40, 0.1));
+  KeyFrame* k2 = map.AddKeyFrame(GraphKf(40, 0.2));
   k1->parent = k0->id;
   k2->parent = k1->id;
   Share(map, {k0, k1, k2}, 0, 5);  // 3 RGB-D observations: 6 counted
@@ -99,11 +99,11 @@ TEST_CASE("map culling: the culled keyframe's observations go, its points surviv
 
 TEST_CASE("map spanning tree: children move to the culled keyframe's parent, its pose follows the chain") {
   Map map;
-  KeyFrame* k0 = map.AddKeyFrame(MakeKf(20, 0));
-  KeyFrame* k1 = map.AddKeyFrame(MakeKf(20, 0.1));
-  KeyFrame* k2 = map.AddKeyFrame(MakeKf(20, 0.2));
-  KeyFrame* k3 = map.AddKeyFrame(MakeKf(20, 0.3));
-  KeyFrame* k4 = map.AddKeyFrame(MakeKf(20, 0.4));
+  KeyFrame* k0 = map.AddKeyFrame(GraphKf(20, 0));
+  KeyFrame* k1 = map.AddKeyFrame(GraphKf(20, 0.1));
+  KeyFrame* k2 = map.AddKeyFrame(GraphKf(20, 0.2));
+  KeyFrame* k3 = map.AddKeyFrame(GraphKf(20, 0.3));
+  KeyFrame* k4 = map.AddKeyFrame(GraphKf(20, 0.4));
   k1->parent = k0->id;
   k2->parent = k1->id;
   k3->parent = k2->id;

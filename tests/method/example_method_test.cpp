@@ -100,7 +100,7 @@ std::string Config(const std::string& dir, bool fail) {
 }
 
 // Each test case synthesises its own copy (CTest runs test cases in parallel processes).
-std::string Sequence(const std::string& dir) {
+std::string ExampleSequence(const std::string& dir) {
   synth::SynthOptions so;
   so.preset = "static_xyz";
   so.frames = 12;
@@ -112,7 +112,7 @@ std::string Sequence(const std::string& dir) {
 
 RunOptions ExampleRun(const std::string& dir, const MethodRegistry& registry, bool fail) {
   RunOptions o;
-  o.sequence = Sequence(dir);
+  o.sequence = ExampleSequence(dir);
   o.out_dir = dir + "/run";
   o.method = "example";
   o.config_path = Config(dir, fail);

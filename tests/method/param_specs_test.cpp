@@ -7,6 +7,7 @@
 
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "core/error.h"
@@ -164,5 +165,68 @@ TEST_CASE("param specs: mgd.boxes without mgd.probability is refused when the ru
   } catch (const InputError& e) {
     CHECK(e.line() == boxes_line);
     CHECK(std::string(e.what()).find("stage mgd.boxes needs mgd.probability in the stage list") != std::string::npos);
+  }
+}
+
+TEST_CASE("param specs: epi.enhance down below 0.05 is refused at its line (issue 37, config fuzzer)") {
+  // scripts/fuzz.sh configs: down = 1e-308 passed (0, 1) and cv::resize asserted on frame 0 (an
+  // empty two-scale image); 0.05 keeps >= 2 px of the smallest frame `dynref run` accepts (64x48).
+  MethodRegistry registry;
+  RegisterBuiltinMethods(registry);
+  const MethodConfig cfg = LoadMethodConfig(test::SourcePath("configs/epi.yaml"));
+  for (const char* value : {"1e-308", "0.0001", "0.049"}) {
+    INFO(value);
+    std::vector<StageConfig> stages = cfg.stages;
+    int line = 0;
+    for (StageConfig& sc : stages)
+      if (sc.name == "epi.enhance") {
+        sc.params.params.at("down").value = value;
+        line = sc.params.params.at("down").line;
+      }
+    REQUIRE(line > 0);
+    try {
+      Session s(cfg.path, stages, registry);
+      FAIL("no error");
+    } catch (const InputError& e) {
+      CHECK(e.line() == line);
+      CHECK(std::string(e.what()).find("epi.enhance.down: must be in [0.05, 1), got " + std::string(value)) !=
+            std::string::npos);
+    }
+  }
+  std::vector<StageConfig> ok = cfg.stages;
+  for (StageConfig& sc : ok)
+    if (sc.name == "epi.enhance") sc.params.params.at("down").value = "0.05";
+  CHECK_NOTHROW(Session(cfg.path, ok, registry));
+}
+
+TEST_CASE("param specs: an even LK window or border_px 0 is refused at the key's line, not the stage's (issue 37)") {
+  // scripts/fuzz.sh configs: sgdo.coarse lk_window_px=32 and border_px=0 passed the specs and
+  // LkOptions::Check refused them at the `- name:` line as "window_px" / "border_px must be >= 1".
+  MethodRegistry registry;
+  RegisterBuiltinMethods(registry);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"sgdo", "sgdo.coarse"}, {"epi", "epi.vote"}};
+  for (const auto& [method, stage] : cases) {
+    const MethodConfig cfg = LoadMethodConfig(test::SourcePath("configs/" + method + ".yaml"));
+    for (const auto& [key, value, want] : std::vector<std::tuple<std::string, std::string, std::string>>{
+             {"lk_window_px", "32", "must be an integer in 3..101 (odd), got 32"},
+             {"border_px", "0", "must be an integer in 1..1000, got 0"}}) {
+      INFO(stage << "." << key << "=" << value);
+      std::vector<StageConfig> stages = cfg.stages;
+      int line = 0;
+      for (StageConfig& sc : stages)
+        if (sc.name == stage) {
+          sc.params.params.at(key).value = value;
+          line = sc.params.params.at(key).line;
+        }
+      REQUIRE(line > 0);
+      try {
+        Session s(cfg.path, stages, registry);
+        FAIL("no error");
+      } catch (const InputError& e) {
+        CHECK(e.line() == line);
+        CHECK(std::string(e.what()).find(stage + "." + key + ": " + want) != std::string::npos);
+      }
+    }
   }
 }

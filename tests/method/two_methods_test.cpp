@@ -62,7 +62,7 @@ void CheckSame(const std::string& a, const std::string& b, bool dense) {
 
 }  // namespace
 
-TEST_CASE("two methods in one process, in both orders, equal separate processes") {
+TEST_CASE("two methods in one process, in both orders, equal separate processes", "[cli]") {
   const std::string dir = test::ScratchDir("two_methods");
   RunOwnProcess("orb", dir + "/solo_orb");
   RunOwnProcess("sgdo", dir + "/solo_sgdo");

@@ -31,7 +31,7 @@ std::map<int64_t, Eigen::Vector3d> InitialPoints(const SyntheticBAProblem& p) {
   for (const BAPoint& pt : p.points) X[pt.id] = pt.X_w;
   return X;
 }
-bool BitIdentical(const SE3& a, const SE3& b) {
+bool BaBitIdentical(const SE3& a, const SE3& b) {
   return std::memcmp(a.matrix().data(), b.matrix().data(), sizeof(double) * 16) == 0;
 }
 
@@ -56,7 +56,7 @@ TEST_CASE("local-ba: reduces reprojection error, flags outliers, keeps fixed key
   CHECK(rms_after < 1.5);  // noise 0.5 px * 1.2^octave, octave 0..7 => about 1.1 px
 
   for (const BAKeyFrame& kf : p.keyframes) {
-    if (kf.fixed) CHECK(BitIdentical(r.T_cw.at(kf.id), kf.T_cw));
+    if (kf.fixed) CHECK(BaBitIdentical(r.T_cw.at(kf.id), kf.T_cw));
   }
   // Free keyframes move towards the truth.
   for (size_t k = 0; k < p.keyframes.size(); ++k) {
@@ -90,7 +90,7 @@ TEST_CASE("local-ba: two calls are bit-identical") {
   CHECK(a.inlier.size() == p.observations.size());
   REQUIRE(b.T_cw.size() == a.T_cw.size());
   REQUIRE(b.X_w.size() == a.X_w.size());
-  for (const auto& [id, T] : a.T_cw) CHECK(BitIdentical(T, b.T_cw.at(id)));
+  for (const auto& [id, T] : a.T_cw) CHECK(BaBitIdentical(T, b.T_cw.at(id)));
   for (const auto& [id, X] : a.X_w)
     CHECK(std::memcmp(X.data(), b.X_w.at(id).data(), sizeof(double) * 3) == 0);
   CHECK(a.inlier == b.inlier);
@@ -117,7 +117,7 @@ TEST_CASE("local-ba: weight-0 observations have no influence") {
   REQUIRE(zero.X_w.size() == base.X_w.size());
   REQUIRE(base.inlier.size() == n);
   REQUIRE(zero.inlier.size() == obs.size());
-  for (const auto& [id, T] : base.T_cw) CHECK(BitIdentical(T, zero.T_cw.at(id)));
+  for (const auto& [id, T] : base.T_cw) CHECK(BaBitIdentical(T, zero.T_cw.at(id)));
   for (const auto& [id, X] : base.X_w)
     CHECK(std::memcmp(X.data(), zero.X_w.at(id).data(), sizeof(double) * 3) == 0);
   for (size_t i = 0; i < n; ++i) CHECK(base.inlier[i] == zero.inlier[i]);
@@ -144,7 +144,7 @@ TEST_CASE("local-ba: all keyframes fixed moves only points, no observations is a
   const Intrinsics K = SyntheticIntrinsics();
   const LocalBAResult r =
       LocalBundleAdjust(K, p.keyframes, p.points, p.observations, LocalBAOptions{}, nullptr, "t");
-  for (const BAKeyFrame& kf : p.keyframes) CHECK(BitIdentical(r.T_cw.at(kf.id), kf.T_cw));
+  for (const BAKeyFrame& kf : p.keyframes) CHECK(BaBitIdentical(r.T_cw.at(kf.id), kf.T_cw));
   // The objective (reprojection error over kept observations) drops to the noise level; point
   // positions themselves are only as good as the depth/triangulation noise allows.
   std::vector<uint8_t> kept(p.is_outlier.size());

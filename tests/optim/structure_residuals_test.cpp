@@ -19,7 +19,7 @@ namespace {
 
 using MatrixXdRow = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
-SE3 SomePose(Rng& rng, double scale = 0.5) {
+SE3 StructurePose(Rng& rng, double scale = 0.5) {
   Eigen::Matrix<double, 6, 1> xi;
   for (int k = 0; k < 6; ++k) xi[k] = rng.Uniform(-scale, scale);
   return ExpSE3(xi);
@@ -95,7 +95,7 @@ TEST_CASE("structure residuals: line and plane Jacobians match numeric different
   const PoseManifold pose_manifold;
   const ceres::SphereManifold<3> sphere;
   for (int trial = 0; trial < 15; ++trial) {
-    const SE3 T = SomePose(rng);
+    const SE3 T = StructurePose(rng);
     for (bool literal : {false, true}) {
       StructureResidualOptions opt;
       opt.literal_line = literal;
@@ -209,10 +209,10 @@ TEST_CASE("structure residuals: pose-only optimisation recovers a pose from line
   const Intrinsics K = SyntheticIntrinsics();
   Rng rng(21, "optim.test.structure");
   for (int trial = 0; trial < 5; ++trial) {
-    const SE3 T_true = SomePose(rng, 0.1);
+    const SE3 T_true = StructurePose(rng, 0.1);
     PoseStructure st;
     PlantStructure(K, T_true, &st);
-    const SE3 T0 = SomePose(rng, 0.03) * T_true;
+    const SE3 T0 = StructurePose(rng, 0.03) * T_true;
     const PoseOnlyResult r = OptimizePose(K, T0, {}, &st, PoseOnlyOptions{}, nullptr, "test");
     CHECK((r.T_cw.translation() - T_true.translation()).norm() < 1e-6);
     CHECK(Eigen::AngleAxisd(r.T_cw.linear() * T_true.linear().transpose()).angle() < 1e-6);
@@ -225,11 +225,11 @@ TEST_CASE("structure residuals: pose-only optimisation recovers a pose from line
 TEST_CASE("structure residuals: a wrong line is an outlier, and an empty structure is the point-only call") {
   const Intrinsics K = SyntheticIntrinsics();
   Rng rng(22, "optim.test.structure");
-  const SE3 T_true = SomePose(rng, 0.1);
+  const SE3 T_true = StructurePose(rng, 0.1);
   PoseStructure st;
   PlantStructure(K, T_true, &st);
   st.lines[3].l.z() += 30;  // 30 px off
-  const PoseOnlyResult r = OptimizePose(K, SomePose(rng, 0.02) * T_true, {}, &st, PoseOnlyOptions{}, nullptr, "t");
+  const PoseOnlyResult r = OptimizePose(K, StructurePose(rng, 0.02) * T_true, {}, &st, PoseOnlyOptions{}, nullptr, "t");
   CHECK(r.line_inlier[3] == 0);
   CHECK(r.line_inliers == 11);
   CHECK((r.T_cw.translation() - T_true.translation()).norm() < 1e-6);
@@ -250,7 +250,7 @@ TEST_CASE("structure residuals: local BA refines map lines and planes and a free
   Rng rng(23, "optim.test.structure");
   // A 0.45 m baseline: the two views triangulate every line well.
   const SE3 T0 = SE3::Identity();
-  SE3 T1 = SomePose(rng, 0.1);
+  SE3 T1 = StructurePose(rng, 0.1);
   T1.translation() += Eigen::Vector3d(0.4, -0.2, 0.05);
   PoseStructure s0, s1;
   PlantStructure(K, T0, &s0);
@@ -284,7 +284,7 @@ TEST_CASE("structure residuals: local BA refines map lines and planes and a free
   }
   std::vector<BAKeyFrame> kfs(2);
   kfs[0].id = 0, kfs[0].T_cw = T0, kfs[0].fixed = true;
-  kfs[1].id = 1, kfs[1].T_cw = SomePose(rng, 0.01) * T1;
+  kfs[1].id = 1, kfs[1].T_cw = StructurePose(rng, 0.01) * T1;
   LocalBAOptions o;
   o.iterations_robust = 10, o.iterations_refine = 20;
   const LocalBAResult r = LocalBundleAdjust(K, kfs, {}, {}, &st, o, nullptr, "ba");

@@ -9,7 +9,7 @@
 
 using namespace dynref::test;
 
-TEST_CASE("bench script: per-module table for two synthetic sequences") {
+TEST_CASE("bench script: per-module table for two synthetic sequences", "[cli]") {
   const std::string out = ScratchDir("bench_script");
   const CommandResult r = RunShell("DYNREF=" + Quote(DynrefExe()) + " DYNREF_BENCH_OUT=" + Quote(out) +
                                    " bash " + Quote(SourcePath("scripts/bench-backbone.sh")) + " 12");

@@ -15,7 +15,7 @@
 
 using namespace dynref;
 
-TEST_CASE("run --variant concurrent: local mapping in its own thread, diffed against the oracle") {
+TEST_CASE("run --variant concurrent: local mapping in its own thread, diffed against the oracle", "[cli]") {
   const std::string dir = test::ScratchDir("run_concurrent");
   const std::string seq = dir + "/seq";
   REQUIRE(test::RunDynref("synth --preset walking_xyz --frames 40 --seed 1 --detections yolo-like --out " + test::Quote(seq))
@@ -52,7 +52,7 @@ TEST_CASE("run --variant concurrent: local mapping in its own thread, diffed aga
   CHECK(d.output.find("mgd.") != std::string::npos);  // probability differences of the method's stages
 }
 
-TEST_CASE("run --variant: anything but oracle or concurrent is refused") {
+TEST_CASE("run --variant: anything but oracle or concurrent is refused", "[cli]") {
   RunOptions o;
   o.sequence = test::SourcePath("datasets/real/tum_fr1_desk_9frames");
   o.out_dir = test::ScratchDir("run_variant_bad") + "/run";

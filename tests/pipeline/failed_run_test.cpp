@@ -13,7 +13,7 @@
 using namespace dynref;
 namespace fs = std::filesystem;
 
-TEST_CASE("failed run: a good sgdo run survives every failed rerun into the same --out (issue 37) end to end") {
+TEST_CASE("failed run: a good sgdo run survives every failed rerun into the same --out (issue 37) end to end", "[cli]") {
   const std::string dir = test::ScratchDir("failed_run_keeps");
   synth::SynthOptions so;
   so.preset = "walking_xyz";
@@ -57,7 +57,7 @@ TEST_CASE("failed run: a good sgdo run survives every failed rerun into the same
   }
 }
 
-TEST_CASE("failed run: with no earlier run the failed attempt is published where asked (issue 37) end to end") {
+TEST_CASE("failed run: with no earlier run the failed attempt is published where asked (issue 37) end to end", "[cli]") {
   const std::string dir = test::ScratchDir("failed_run_first");
   synth::SynthOptions so;
   so.preset = "walking_xyz";

@@ -35,7 +35,7 @@ double Ate(const std::string& seq, const std::string& run) {
 
 }  // namespace
 
-TEST_CASE("feature plugin: SIFT + MNN2 tracks a static room within 1 cm, twice the same bytes, matches traced") {
+TEST_CASE("feature plugin: SIFT + MNN2 tracks a static room within 1 cm, twice the same bytes, matches traced", "[cli]") {
   const std::string seq = StaticRoom("sift", 40);
   std::string dump[2];
   for (int k = 0; k < 2; ++k) {

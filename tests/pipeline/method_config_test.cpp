@@ -134,7 +134,7 @@ TEST_CASE("method config: duplicate keys and a stage listed twice are errors wit
     CHECK_NOTHROW(LoadMethodConfig(MethodConfigPath(name)));
 }
 
-TEST_CASE("method config: a directory or a missing file as config is an error naming the path") {
+TEST_CASE("method config: a directory or a missing file as config is an error naming the path", "[cli]") {
   const std::string dir = test::ScratchDir("method_config_dir");
   using Catch::Matchers::Contains;
   CHECK_THROWS_WITH(LoadMethodConfig(dir), Contains(dir + ": method config is not a regular file"));

@@ -57,7 +57,7 @@ int Leftovers(const std::string& out) {
 
 }  // namespace
 
-TEST_CASE("run folder: a failed dense-map write ends the run in error and says so in run.json") {
+TEST_CASE("run folder: a failed dense-map write ends the run in error and says so in run.json", "[cli]") {
   const std::string dir = test::ScratchDir("run_folder_ply");
   const std::string seq = Sequence(dir);
   std::string cfg = test::ReadFileBytes(test::SourcePath("configs/sgdo.yaml"));
@@ -74,7 +74,7 @@ TEST_CASE("run folder: a failed dense-map write ends the run in error and says s
   CHECK(Leftovers(dir + "/run") == 0);
 }
 
-TEST_CASE("run folder: a rerun replaces the whole folder (no dense map of an earlier sgdo run)") {
+TEST_CASE("run folder: a rerun replaces the whole folder (no dense map of an earlier sgdo run)", "[cli]") {
   const std::string dir = test::ScratchDir("run_folder_rerun");
   const std::string seq = Sequence(dir);
   REQUIRE(test::RunDynref(RunArgs(seq, dir + "/run", "sgdo") + " --trace full").exit_code == 0);
@@ -88,7 +88,7 @@ TEST_CASE("run folder: a rerun replaces the whole folder (no dense map of an ear
   CHECK(Leftovers(dir + "/run") == 0);
 }
 
-TEST_CASE("run folder: a folder that is not a run is never replaced") {
+TEST_CASE("run folder: a folder that is not a run is never replaced", "[cli]") {
   const std::string dir = test::ScratchDir("run_folder_foreign");
   const std::string seq = Sequence(dir);
   fs::create_directories(dir + "/mine");
@@ -99,7 +99,7 @@ TEST_CASE("run folder: a folder that is not a run is never replaced") {
   CHECK(test::ReadFileBytes(dir + "/mine/notes.txt") == "my notes\n");
 }
 
-TEST_CASE("run folder: a second writer of the same --out fails at once, naming the lock") {
+TEST_CASE("run folder: a second writer of the same --out fails at once, naming the lock", "[cli]") {
   const std::string dir = test::ScratchDir("run_folder_lock");
   const std::string seq = Sequence(dir);
   const std::string out = StagingDirectory::NormalisedTarget(dir + "/run");
@@ -115,7 +115,7 @@ TEST_CASE("run folder: a second writer of the same --out fails at once, naming t
   CHECK(Leftovers(out) == 0);
 }
 
-TEST_CASE("run folder: a killed run leaves the earlier folder intact, the next run removes its staging") {
+TEST_CASE("run folder: a killed run leaves the earlier folder intact, the next run removes its staging", "[cli]") {
   const std::string dir = test::ScratchDir("run_folder_kill");
   const std::string seq = Sequence(dir, 60);
   const std::string out = dir + "/run";
@@ -145,7 +145,7 @@ TEST_CASE("run folder: a killed run leaves the earlier folder intact, the next r
   CHECK(Leftovers(out) == 0);
 }
 
-TEST_CASE("run folder: a failed trace write (disk full) never publishes a folder that says complete") {
+TEST_CASE("run folder: a failed trace write (disk full) never publishes a folder that says complete", "[cli]") {
   const std::string dir = test::ScratchDir("run_folder_full");
   const std::string seq = Sequence(dir);
   const std::string mnt = dir + "/small";
@@ -164,7 +164,7 @@ TEST_CASE("run folder: a failed trace write (disk full) never publishes a folder
   CHECK(r.output.find("run.tmp.", listing) == std::string::npos);  // no staging folder left behind
 }
 
-TEST_CASE("run folder: an unknown trace level creates nothing") {
+TEST_CASE("run folder: an unknown trace level creates nothing", "[cli]") {
   const std::string dir = test::ScratchDir("run_folder_level");
   const auto r = test::RunDynref("run --sequence " + test::Quote(test::SourcePath("datasets/real/tum_fr1_desk_9frames")) +
                                  " --out " + test::Quote(dir + "/a/b") + " --trace verbose");

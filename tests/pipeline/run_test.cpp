@@ -78,7 +78,7 @@ std::string WriteConfig(const std::string& run_dir, const std::string& stage) {
 
 }  // namespace
 
-TEST_CASE("run: real fr1_desk frames, every frame-to-frame motion close to ground truth") {
+TEST_CASE("run: real fr1_desk frames, every frame-to-frame motion close to ground truth", "[cli]") {
   const std::string out = test::ScratchDir("run_real");
   const RunResult r = RunSequence(Options(out));
   REQUIRE(r.exit_code == 0);
@@ -124,7 +124,7 @@ TEST_CASE("run: real fr1_desk frames, every frame-to-frame motion close to groun
   CHECK(j["config"]["backbone"]["n_features"]["value"] == "1000");
 }
 
-TEST_CASE("run: two runs give byte-identical trajectory and trace dump") {
+TEST_CASE("run: two runs give byte-identical trajectory and trace dump", "[cli]") {
   const std::string a = test::ScratchDir("run_det_a"), b = test::ScratchDir("run_det_b");
   RunOptions oa = Options(a, "full"), ob = Options(b, "full");
   oa.frames.last = ob.frames.last = 4;
@@ -141,7 +141,7 @@ TEST_CASE("run: two runs give byte-identical trajectory and trace dump") {
   CHECK(da.output == db.output);
 }
 
-TEST_CASE("run: --threads 1, 2 and 4 give the same trajectory and trace dump (issue 18)") {
+TEST_CASE("run: --threads 1, 2 and 4 give the same trajectory and trace dump (issue 18)", "[cli]") {
   // orb: ORB levels in parallel; mgd-nd: lines and planes beside ORB as well.
   const std::string method = GENERATE(std::string("orb"), std::string("mgd-nd"));
   std::string dump1, traj1;
@@ -171,7 +171,7 @@ TEST_CASE("run: --threads 1, 2 and 4 give the same trajectory and trace dump (is
   CHECK_THROWS_AS(bad.Check(), InputError);
 }
 
-TEST_CASE("run: every method end to end gives the same outputs and trace dump for --threads 1, 2 and 4 (issue 18)") {
+TEST_CASE("run: every method end to end gives the same outputs and trace dump for --threads 1, 2 and 4 (issue 18)", "[cli]") {
   // sgdo / epi: Lucas-Kanade slices; mgd: previous-frame matching and diffusion in chunks; epi:
   // enhancement rows; sgdo / semantic: dense back-projection bands (sgdo: also the incremental
   // filter's neighbour statistics); every method: ORB grid rows and descriptor chunks.
@@ -207,7 +207,7 @@ TEST_CASE("run: every method end to end gives the same outputs and trace dump fo
   }
 }
 
-TEST_CASE("run: fewer than 2 frames ends cleanly with exit 2 and says why") {
+TEST_CASE("run: fewer than 2 frames ends cleanly with exit 2 and says why", "[cli]") {
   const std::string out = test::ScratchDir("run_short");
   const auto r = test::RunDynref("run --sequence " + test::SourcePath(kSeq) + " --out " + out + " --frames 0-0");
   CHECK(r.exit_code == 2);
@@ -232,7 +232,7 @@ TEST_CASE("run: everything masked out is never initialised, every frame listed a
   CHECK(ReadJson(out + "/run.json")["frames_all_features_excluded"] == 4);
 }
 
-TEST_CASE("run: per-feature weights reach pose optimisation and local BA") {
+TEST_CASE("run: per-feature weights reach pose optimisation and local BA", "[cli]") {
   const std::string a = test::ScratchDir("run_weight_a"), b = test::ScratchDir("run_weight_b");
   RunOptions oa = Options(a), ob = Options(b, "full");
   ob.registry = &TestRegistry();
@@ -286,7 +286,7 @@ std::vector<std::string> ListedImages(const std::string& list_file) {
 
 }  // namespace
 
-TEST_CASE("run: an unreadable frame mid-sequence ends the run cleanly, naming the file") {
+TEST_CASE("run: an unreadable frame mid-sequence ends the run cleanly, naming the file", "[cli]") {
   const std::string seq = CopyOfRealSequence("run_unreadable");
   const std::vector<std::string> rgb = ListedImages(seq + "/rgb.txt");
   REQUIRE(rgb.size() == 9);
@@ -332,7 +332,7 @@ TEST_CASE("run: zero depth in every frame is never initialised, one zero-depth f
   CHECK(std::count(lost.begin(), lost.end(), '\n') == 10);  // header + 9 frames
 }
 
-TEST_CASE("run: a detection mask of the wrong size mid-run ends the run cleanly, naming the PNG") {
+TEST_CASE("run: a detection mask of the wrong size mid-run ends the run cleanly, naming the PNG", "[cli]") {
   const std::string dir = test::ScratchDir("run_bad_mask");
   const auto s = test::RunDynref("synth --preset walking_xyz --frames 4 --seed 1 --detections ideal --out " +
                                  test::Quote(dir + "/seq"));
@@ -390,7 +390,7 @@ TEST_CASE("run: a rerun into the same folder removes the earlier run's trace and
   CHECK_THROWS_WITH(RunSequence(o), Catch::Matchers::Contains("--overlays needs --trace full"));
 }
 
-TEST_CASE("run: a camera too small for ORB extraction is named before any work (issue 20 item 10)") {
+TEST_CASE("run: a camera too small for ORB extraction is named before any work (issue 20 item 10)", "[cli]") {
   // A consistent 1 x 1 sequence (the image-size check against the camera passes): before, the
   // ORB extractor ended in a raw OpenCV assertion.
   const std::string dir = test::ScratchDir("run_tiny_camera");

@@ -74,7 +74,7 @@ TEST_CASE("trained weights are ln(N / N_i) and the tree obeys k and L") {
   }
 }
 
-TEST_CASE("few descriptors give one leaf each, groups get majority-bit centroids") {
+TEST_CASE("few descriptors give one leaf each, groups get majority-bit centroids", "[cli]") {
   // <= k descriptors: one child per descriptor (DBoW2 HKmeansStep's trivial case).
   Descriptor x{}, y{};
   y.fill(0xff);
@@ -131,7 +131,7 @@ TEST_CASE("retraining on the bundled real frames reproduces the committed fixtur
   CHECK(bytes == test::ReadFileBytes(test::SourcePath(kFixture)));
 }
 
-TEST_CASE("dynref vocab train end to end is byte-identical and matches the fixture") {
+TEST_CASE("dynref vocab train end to end is byte-identical and matches the fixture", "[cli]") {
   const std::string dir = test::ScratchDir("place_vocab_train");
   const std::string args = "vocab train --sequence " + test::Quote(test::SourcePath("datasets/real/tum_fr1_desk_9frames")) +
                            " --k 6 --levels 3 --features 300 --out ";
@@ -156,7 +156,7 @@ TEST_CASE("dynref vocab train end to end is byte-identical and matches the fixtu
   test::ExpectBadInput("vocab info " + test::Quote(dir + "/none.txt"), "none.txt");
 }
 
-TEST_CASE("the default vocabulary's recipe at small size retrains byte-identically end to end") {
+TEST_CASE("the default vocabulary's recipe at small size retrains byte-identically end to end", "[cli]") {
   // models/vocab/make_default.sh in miniature: synthetic presets of two seeds plus the real frames.
   const std::string dir = test::ScratchDir("place_vocab_recipe");
   std::string seqs;

@@ -9,7 +9,7 @@
 namespace fs = std::filesystem;
 using namespace dynref;
 
-TEST_CASE("overlay: a full disk fails loudly and leaves no partial overlays") {
+TEST_CASE("overlay: a full disk fails loudly and leaves no partial overlays", "[cli]") {
   const std::string dir = test::ScratchDir("overlay_full");
   REQUIRE(test::RunDynref("synth --preset static_xyz --frames 10 --seed 1 --out " + test::Quote(dir + "/seq")).exit_code == 0);
   REQUIRE(test::RunDynref("run --sequence " + test::Quote(dir + "/seq") + " --out " + test::Quote(dir + "/run") +

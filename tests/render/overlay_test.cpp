@@ -52,7 +52,7 @@ TEST_CASE("golden overlay of a synthetic frame with GT labels matches golden/ove
   CHECK(diff <= 640 * 480 / 1000);
 }
 
-TEST_CASE("overlay pixels are identical across two renders, montage tiles the frames") {
+TEST_CASE("overlay pixels are identical across two renders, montage tiles the frames", "[cli]") {
   const std::string dir = test::ScratchDir("render_determinism");
   const test::SyntheticRun run = test::MakeSyntheticRun(dir);
   render::OverlayOptions o;
@@ -103,7 +103,7 @@ TEST_CASE("overlay data: probabilities, decisions, shapes and instance states co
   CHECK(f.counts.at(1).first == "sgdo.epipolar.rejected");
 }
 
-TEST_CASE("dynref overlay CLI writes PNGs and rejects a bad frame range") {
+TEST_CASE("dynref overlay CLI writes PNGs and rejects a bad frame range", "[cli]") {
   const std::string dir = test::ScratchDir("render_cli");
   const test::SyntheticRun run = test::MakeSyntheticRun(dir);
   const auto ok = test::RunDynref("overlay '" + run.run + "' --frames 0-1 --gt --montage '" + dir +
@@ -115,7 +115,7 @@ TEST_CASE("dynref overlay CLI writes PNGs and rejects a bad frame range") {
   CHECK(test::RunDynref("overlay '" + run.run + "' --frames 7-9").exit_code == 2);
 }
 
-TEST_CASE("feature history and plot of one feature") {
+TEST_CASE("feature history and plot of one feature", "[cli]") {
   const std::string dir = test::ScratchDir("render_feature_plot");
   const test::SyntheticRun run = test::MakeSyntheticRun(dir);
   trace::TraceReader reader(run.run + "/trace.dtr");
@@ -132,7 +132,7 @@ TEST_CASE("feature history and plot of one feature") {
   CHECK(test::RunDynref("trace feature '" + run.run + "' mp9999").exit_code == 1);
 }
 
-TEST_CASE("dynref overlay leaves no partial output when a frame fails or the range is bad") {
+TEST_CASE("dynref overlay leaves no partial output when a frame fails or the range is bad", "[cli]") {
   const std::string dir = test::ScratchDir("render_no_partial");
   const test::SyntheticRun run = test::MakeSyntheticRun(dir);
   // Truncate the RGB PNG of frame 1: frame 0 renders fine, frame 1 cannot be read.
@@ -185,7 +185,7 @@ TEST_CASE("dynref overlay leaves no partial output when a frame fails or the ran
   CHECK(test::FileExists(dir + "/keep/notes.txt"));
 }
 
-TEST_CASE("dynref overlay rejects --montage-columns below 1") {
+TEST_CASE("dynref overlay rejects --montage-columns below 1", "[cli]") {
   const std::string dir = test::ScratchDir("render_montage_columns");
   const test::SyntheticRun run = test::MakeSyntheticRun(dir);
   for (const std::string cols : {"0", "-3"}) {

@@ -12,7 +12,7 @@
 
 using namespace dynref;
 
-TEST_CASE("reproduce --list names every table, and each is a subcommand with help") {
+TEST_CASE("reproduce --list names every table, and each is a subcommand with help", "[cli]") {
   const test::CommandResult r = test::RunDynref("reproduce --list");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
@@ -29,7 +29,7 @@ TEST_CASE("reproduce --list names every table, and each is a subcommand with hel
   CHECK(none.output.find("--list") != std::string::npos);
 }
 
-TEST_CASE("run --set changes one stage parameter and records it, a malformed --set is bad input") {
+TEST_CASE("run --set changes one stage parameter and records it, a malformed --set is bad input", "[cli]") {
   const std::string dir = test::ScratchDir("run_set");
   REQUIRE(test::RunDynref("synth --preset walking_xyz --frames 30 --seed 1 --detections yolo-like --out " + dir + "/seq")
               .exit_code == 0);

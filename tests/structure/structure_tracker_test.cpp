@@ -88,7 +88,7 @@ TEST_CASE("structure: line/plane backbone keys resolve with sources, unknown one
   CHECK_THROWS_AS(c.SetBackboneParam("no_such_key", "1", "test"), InputError);
 }
 
-TEST_CASE("structure: frame lines get 3-D samples, landmarks are created at a keyframe and re-associated next frame") {
+TEST_CASE("structure: frame lines get 3-D samples, landmarks are created at a keyframe and re-associated next frame", "[cli]") {
   const std::string seq_dir = Synth("pair", "static_xyz", 3);
   const Sequence seq = OpenSequence(seq_dir, SequenceOptions{});
   const MethodConfig cfg = LoadMethodConfig(test::SourcePath("configs/mgd_nd.yaml"));
@@ -209,7 +209,7 @@ TEST_CASE("structure: zero-length lines and zero normals are refused by name") {
   CHECK(features::LineThrough({5, 5}, {5, 5}).isZero());
 }
 
-TEST_CASE("structure: mgd-nd survives a frame whose depth is all zero and reruns byte-identically") {
+TEST_CASE("structure: mgd-nd survives a frame whose depth is all zero and reruns byte-identically", "[cli]") {
   const std::string seq_dir = Synth("zero_depth", "static_xyz", 20);
   const Sequence seq = OpenSequence(seq_dir, SequenceOptions{});
   const cv::Mat d = cv::imread(seq.frames[10].depth_path, cv::IMREAD_UNCHANGED);

@@ -144,7 +144,7 @@ TEST_CASE("synth: every preset generates and has people only where expected") {
   CHECK_THROWS_AS(dynref::synth::GetPreset("walking_sideways"), dynref::InputError);
 }
 
-TEST_CASE("synth: CLI writes a sequence that dynref info reads and bad arguments exit 2") {
+TEST_CASE("synth: CLI writes a sequence that dynref info reads and bad arguments exit 2", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("synth_cli");
   const auto r = dynref::test::RunDynref("synth --preset walking_xyz --frames 3 --out '" + dir + "/wx'");
   INFO(r.output);
@@ -208,7 +208,7 @@ TEST_CASE("synth replaces an earlier synth output as a whole and leaves no temp 
   CHECK(ta == tb);
 }
 
-TEST_CASE("synth refuses to overwrite a folder it did not write, exit 2") {
+TEST_CASE("synth refuses to overwrite a folder it did not write, exit 2", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("synth_refuse");
   const std::string other = dir + "/photos";
   REQUIRE(dynref::test::RunShell("mkdir -p " + dynref::test::Quote(other) + " && echo keep > " +
@@ -226,7 +226,47 @@ TEST_CASE("synth refuses to overwrite a folder it did not write, exit 2") {
   CHECK_THROWS_AS(GenerateSequence(Options("walking_xyz", 1, other)), dynref::InputError);
 }
 
-TEST_CASE("synth rejects negative or overflowing seeds and absurd frame counts, exit 2") {
+TEST_CASE("synth --width: a small sequence with scaled intrinsics, masks and detections of its size") {
+  // Issue 37: the config-mutation fuzzer runs ~2,000 mutants on one small shared sequence.
+  const std::string dir = dynref::test::ScratchDir("synth_width");
+  SynthOptions o = Options("walking_xyz", 2, dir);
+  o.width = 160, o.detections = "ideal";
+  GenerateSequence(o);
+  const dynref::Sequence seq = dynref::OpenSequence(dir);
+  REQUIRE(seq.frames.size() == 2);
+  CHECK(seq.camera.width == 160);
+  CHECK(seq.camera.height == 120);
+  CHECK(seq.camera.fx == Approx(535.4 / 4));
+  CHECK(seq.camera.fy == Approx(539.2 / 4));
+  CHECK(seq.camera.cx == Approx((320.1 + 0.5) / 4 - 0.5));
+  CHECK(seq.camera.cy == Approx((247.6 + 0.5) / 4 - 0.5));
+  CHECK(seq.camera.baseline_m() == Approx(40.0 / 535.4));  // bf scales with fx
+  for (const auto& f : seq.frames) {
+    CHECK(dynref::LoadRgb(seq, f).size() == cv::Size(160, 120));
+    CHECK(dynref::LoadDepthMeters(seq, f).size() == cv::Size(160, 120));
+  }
+  const dynref::DetectionsReader ideal(dir + "/detections/ideal");
+  const dynref::FrameDetections d = ideal.Read(seq.frames[0].rgb_stamp_text);
+  REQUIRE(!d.instances.empty());
+  for (const auto& inst : d.instances) {
+    CHECK(inst.x_max <= 159);
+    CHECK(inst.y_max <= 119);
+  }
+  const std::string meta = dynref::test::ReadFileBytes(dir + "/synth.yaml");
+  CHECK(meta.find(" --width 160)") != std::string::npos);
+  CHECK(meta.find("\nwidth: 160\nheight: 120\n") != std::string::npos);
+  // The default writes no width line (full-size synth.yaml unchanged).
+  GenerateSequence(Options("walking_xyz", 1, dir + "_full"));
+  CHECK(dynref::test::ReadFileBytes(dir + "_full/synth.yaml").find("width") == std::string::npos);
+  for (int bad : {-4, 32, 60, 161, 644}) {
+    INFO(bad);
+    SynthOptions b = Options("walking_xyz", 1, dir + "_bad");
+    b.width = bad;
+    CHECK_THROWS_WITH(GenerateSequence(b), Catch::Contains("--width"));
+  }
+}
+
+TEST_CASE("synth rejects negative or overflowing seeds and absurd frame counts, exit 2", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("synth_ranges");
   const std::string base = "synth --preset walking_xyz --frames 1 --out " + dynref::test::Quote(dir + "/s");
   for (const char* seed : {"-1", "99999999999999999999999", "18446744073709551616", "12x", "''", "+3"}) {
@@ -237,6 +277,9 @@ TEST_CASE("synth rejects negative or overflowing seeds and absurd frame counts, 
   dynref::test::ExpectBadInput("synth --preset walking_xyz --frames 2000000000 --out " + dynref::test::Quote(dir + "/f"),
                                "--frames: must be <= 100000");
   CHECK(!dynref::test::FileExists(dir + "/f"));
+  dynref::test::ExpectBadInput("synth --preset walking_xyz --frames 1 --width 63 --out " + dynref::test::Quote(dir + "/w"),
+                               "--width: must be 0 (640) or a multiple of 4 in 64..640 (got 63)");
+  CHECK(!dynref::test::FileExists(dir + "/w"));
   CHECK_THROWS_AS(GenerateSequence(Options("walking_xyz", dynref::synth::kMaxFrames + 1, dir + "/g")),
                   dynref::InputError);
   // The largest seed is accepted and written as given.
@@ -246,7 +289,7 @@ TEST_CASE("synth rejects negative or overflowing seeds and absurd frame counts, 
   CHECK(dynref::test::ReadFileBytes(dir + "/s/synth.yaml").find("\nseed: 18446744073709551615\n") != std::string::npos);
 }
 
-TEST_CASE("synth-montage errors name its real options --frames-per-row and --tile-width") {
+TEST_CASE("synth-montage errors name its real options --frames-per-row and --tile-width", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("synth_montage_opts");
   GenerateSequence(Options("walking_xyz", 1, dir + "/wx"));
   const std::string base = "synth-montage " + dynref::test::Quote(dir + "/wx") + " --out " + dynref::test::Quote(dir + "/m.png");

@@ -15,10 +15,6 @@ using namespace dynref::trace;
 using dynref::test::RunDynref;
 
 namespace {
-std::string Slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
-}
 void Spit(const std::string& path, const std::string& bytes) {
   std::ofstream f(path, std::ios::binary);
   f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -35,7 +31,7 @@ TEST_CASE("every single-bit flip of a schema-2 trace is refused, never read sile
   const std::string path = dir + "/a.dtr";
   dynref::test::WriteSampleTrace(path);
   REQUIRE_NOTHROW(ReadAll(path));
-  const std::string bytes = Slurp(path);
+  const std::string bytes = dynref::test::ReadFileBytes(path);
   dynref::Rng rng(20, "test.trace_bitflips");
   int refused = 0, flips = 0;
   // Every byte once (a random bit of it) plus 200 random (byte, bit) pairs.
@@ -57,7 +53,7 @@ TEST_CASE("every single-bit flip of a schema-2 trace is refused, never read sile
   CHECK(refused == flips);
 }
 
-TEST_CASE("a flipped block names its frame, a changed header config is refused by diff") {
+TEST_CASE("a flipped block names its frame, a changed header config is refused by diff", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("trace_corrupt_frame");
   const std::string path = dir + "/a.dtr";
   dynref::test::WriteSampleTrace(path);
@@ -68,7 +64,7 @@ TEST_CASE("a flipped block names its frame, a changed header config is refused b
       if (g.frame == 2) inside_frame2 = g.offset + 12;  // inside the FRAME timestamp
   }
   REQUIRE(inside_frame2 > 0);
-  std::string bytes = Slurp(path);
+  std::string bytes = dynref::test::ReadFileBytes(path);
   bytes[inside_frame2] = static_cast<char>(bytes[inside_frame2] ^ 0x01);  // a float, still decodes
   Spit(dir + "/frame2.dtr", bytes);
   const auto d = RunDynref("diff '" + path + "' '" + dir + "/frame2.dtr'");
@@ -77,7 +73,7 @@ TEST_CASE("a flipped block names its frame, a changed header config is refused b
   CHECK(RunDynref("trace dump '" + dir + "/frame2.dtr'").exit_code == 2);
 
   // The config text in the header: same length, one letter changed (schema 1 gave MATCH).
-  std::string header = Slurp(path);
+  std::string header = dynref::test::ReadFileBytes(path);
   const size_t at = header.find("{\"a\":1}");
   REQUIRE(at != std::string::npos);
   header[at + 5] = '2';
@@ -87,7 +83,7 @@ TEST_CASE("a flipped block names its frame, a changed header config is refused b
   CHECK(h.output.find("header.dtr: corrupt: header checksum mismatch") != std::string::npos);
 }
 
-TEST_CASE("schema 1 traces (no checksums) still read, dump and diff") {
+TEST_CASE("schema 1 traces (no checksums) still read, dump and diff", "[cli]") {
   const std::string v1 = dynref::test::SourcePath("tests/data/trace_v1/orb_30f_schema1.dtr");
   TraceReader r(v1);
   CHECK(r.schema_version() == 1);

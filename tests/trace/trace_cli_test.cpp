@@ -20,7 +20,7 @@ dynref::test::CommandResult StderrOf(const std::string& args) {
 }
 }  // namespace
 
-TEST_CASE("trace feature: a malformed id exits 2, an absent well-formed id exits 1") {
+TEST_CASE("trace feature: a malformed id exits 2, an absent well-formed id exits 1", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("trace_cli_feature");
   const std::string trace = dir + "/a.dtr";
   dynref::test::WriteSampleTrace(trace);
@@ -45,7 +45,7 @@ TEST_CASE("trace: canonical entity ids") {
     CHECK_FALSE(IsCanonicalEntityId(id));
 }
 
-TEST_CASE("trace dump: a bad or absent --frame exits 2, an empty filter result notes it on stderr") {
+TEST_CASE("trace dump: a bad or absent --frame exits 2, an empty filter result notes it on stderr", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("trace_cli_dump");
   const std::string trace = dir + "/a.dtr";
   dynref::test::WriteSampleTrace(trace);  // frames 0..2, no records before the first frame
@@ -68,7 +68,7 @@ TEST_CASE("trace dump: a bad or absent --frame exits 2, an empty filter result n
         std::string::npos);
 }
 
-TEST_CASE("trace bench: non-positive sizes exit 2 naming the option") {
+TEST_CASE("trace bench: non-positive sizes exit 2 naming the option", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("trace_cli_bench");
   const std::string out = " --out " + Quote(dir + "/b.dtr");
   ExpectBadInput("trace bench --frames -1" + out, "--frames: must be >= 1, got -1");

@@ -23,7 +23,7 @@ std::string Sample(const std::string& dir, const std::string& name, const Sample
 }
 }  // namespace
 
-TEST_CASE("diff of identical traces exits 0") {
+TEST_CASE("diff of identical traces exits 0", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("diff_identical");
   const std::string a = Sample(dir, "a.dtr"), b = Sample(dir, "b.dtr");
   CHECK(DiffTraces(a, b, {}).ExitCode() == 0);
@@ -32,7 +32,7 @@ TEST_CASE("diff of identical traces exits 0") {
   CHECK(r.output.find("MATCH") != std::string::npos);
 }
 
-TEST_CASE("a float perturbed beyond tolerance is the first divergence, within tolerance passes") {
+TEST_CASE("a float perturbed beyond tolerance is the first divergence, within tolerance passes", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("diff_perturbed");
   SampleTweak t;
   t.after_delta = 1e-6;
@@ -82,7 +82,7 @@ TEST_CASE("missing and extra records are reported with per-stage counts") {
   CHECK(added.stages.at("sgdo.epipolar").extra == 1);
 }
 
-TEST_CASE("records in another order within a frame still match by key") {
+TEST_CASE("records in another order within a frame still match by key", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("diff_reordered");
   SampleTweak rev;
   rev.reverse_frame1 = true;
@@ -95,7 +95,7 @@ TEST_CASE("records in another order within a frame still match by key") {
   CHECK(d.stages.at("mgd.temporal").extra == 0);
 }
 
-TEST_CASE("truncated trace and other schema version exit 2 naming the problem") {
+TEST_CASE("truncated trace and other schema version exit 2 naming the problem", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("diff_bad_files");
   const std::string a = Sample(dir, "a.dtr");
   std::string bytes;
@@ -136,7 +136,7 @@ TEST_CASE("truncated trace and other schema version exit 2 naming the problem") 
   CHECK(RunDynref("trace dump '" + dir + "/cut.dtr'").exit_code == 2);
 }
 
-TEST_CASE("a corrupt record inside the body exits 2 naming the problem") {
+TEST_CASE("a corrupt record inside the body exits 2 naming the problem", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("diff_corrupt");
   const std::string a = Sample(dir, "a.dtr");
   uint64_t offset = 0;
@@ -168,7 +168,7 @@ TEST_CASE("a corrupt record inside the body exits 2 naming the problem") {
   CHECK(d.output.find("corrupt at frame 1: block checksum mismatch") != std::string::npos);
 }
 
-TEST_CASE("a canonical JSONL trace (another implementation's text output) diffs against a binary one") {
+TEST_CASE("a canonical JSONL trace (another implementation's text output) diffs against a binary one", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("diff_jsonl");
   const std::string a = Sample(dir, "a.dtr");
   REQUIRE(RunDynref("trace dump '" + a + "' --format jsonl > '" + dir + "/same.jsonl'").exit_code == 0);
@@ -195,7 +195,7 @@ TEST_CASE("a canonical JSONL trace (another implementation's text output) diffs 
   CHECK(RunDynref("diff '" + a + "' '" + dir + "/broken.jsonl'").exit_code == 2);
 }
 
-TEST_CASE("diff --summary: final pose deviation and probability differences over the records both runs share") {
+TEST_CASE("diff --summary: final pose deviation and probability differences over the records both runs share", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("diff_summary");
   // Two frames; the candidate's second pose is 3 mm off and turned 2 deg about z, its second
   // probability update differs by 0.4, and it has an extra update the golden run lacks.
@@ -231,7 +231,7 @@ TEST_CASE("diff --summary: final pose deviation and probability differences over
   CHECK(cli.output.find("translation_mm,2,") != std::string::npos);
 }
 
-TEST_CASE("diff: an empty JSONL trace exits 2 like an empty binary one and --tol of an unknown field is refused (issue 37)") {
+TEST_CASE("diff: an empty JSONL trace exits 2 like an empty binary one and --tol of an unknown field is refused (issue 37)", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("diff_cli_issue37");
   const std::string a = Sample(dir, "a.dtr");
   REQUIRE(RunDynref("trace dump '" + a + "' --format jsonl > '" + dir + "/a.jsonl'").exit_code == 0);

@@ -56,7 +56,7 @@ void Reemit(const std::string& source, const std::string& out) {
 
 // Goldens may be of an older schema until they are regenerated: the re-emitted trace (this
 // schema) must diff identical always, and be the same bytes when the source is of this schema.
-TEST_CASE("external C++17 writer: golden traces re-emitted diff identical (same bytes when of this schema)") {
+TEST_CASE("external C++17 writer: golden traces re-emitted diff identical (same bytes when of this schema)", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("trace_external_writer");
   for (const std::string golden : {"golden/orb_30f/trace.dtr", "golden/sgdo_30f/trace.dtr", "golden/blur_30f/trace.dtr"}) {
     INFO(golden);
@@ -80,7 +80,7 @@ TEST_CASE("external C++17 writer: a fresh trace re-emitted is the same bytes (sc
   CHECK(dynref::trace::TraceReader(dir + "/b.dtr").ReadGroup(1).at(5).associated_map_point_id == 20);
 }
 
-TEST_CASE("external C++17 writer end to end: a fresh mgd run's trace re-emitted is the same bytes") {
+TEST_CASE("external C++17 writer end to end: a fresh mgd run's trace re-emitted is the same bytes", "[cli]") {
   using dynref::test::Quote;
   const std::string dir = dynref::test::ScratchDir("trace_external_run");
   REQUIRE(dynref::test::RunDynref("synth --preset walking_xyz --seed 1 --frames 8 --detections yolo-like --out " +

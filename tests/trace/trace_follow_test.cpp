@@ -31,7 +31,7 @@ std::string FollowTrace(const std::string& name) {
 }
 }  // namespace
 
-TEST_CASE("follow: prev_index links over 7 frames, a map point link and a suppressed feature") {
+TEST_CASE("follow: prev_index links over 7 frames, a map point link and a suppressed feature", "[cli]") {
   TraceReader r(FollowTrace("trace_follow_chain"));
   const std::vector<std::string> all = {"f0.10", "f1.11", "f2.12", "f3.13", "f4.14", "f5.15", "f6.16", "mp50"};
   for (const std::string start : {"f3.13", "f4.14", "mp50", "f2.12"}) {
@@ -103,7 +103,7 @@ TEST_CASE("map point history (no --follow) includes the suppressed feature throu
   CHECK(decision);
 }
 
-TEST_CASE("trace feature --follow prints the chain then the records, --plot writes a PNG") {
+TEST_CASE("trace feature --follow prints the chain then the records, --plot writes a PNG", "[cli]") {
   const std::string trace = FollowTrace("trace_follow_cli");
   const std::string png = dynref::test::ScratchDir("trace_follow_cli_png") + "/chain.png";
   const auto out = RunDynref("trace feature " + Quote(trace) + " f3.13 --follow --plot " + Quote(png));

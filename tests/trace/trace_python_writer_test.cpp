@@ -11,13 +11,9 @@
 using dynref::test::RunDynref;
 
 namespace {
-std::string Slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-}
 }  // namespace
 
-TEST_CASE("an independent Python writer following the README produces traces dynref diffs") {
+TEST_CASE("an independent Python writer following the README produces traces dynref diffs", "[cli]") {
   // python3 is a test dependency (scripts/install-deps.sh): missing it is a failure, not a skip.
   if (std::system("python3 --version > /dev/null 2>&1") != 0)
     FAIL("python3 not found: install it (scripts/install-deps.sh) to run this test");
@@ -28,14 +24,14 @@ TEST_CASE("an independent Python writer following the README produces traces dyn
   const std::string py = "python3 '" + dynref::test::SourcePath("ref/trace/dtr_from_jsonl.py") +
                          "' '" + dir + "/r.jsonl' ";
   REQUIRE(std::system((py + "'" + dir + "/same.dtr' --header '" + dir + "/h.jsonl'").c_str()) == 0);
-  CHECK(Slurp(dir + "/same.dtr") == Slurp(dir + "/a.dtr"));
+  CHECK(dynref::test::ReadFileBytes(dir + "/same.dtr") == dynref::test::ReadFileBytes(dir + "/a.dtr"));
   REQUIRE(std::system((py + "'" + dir + "/rev.dtr' --reverse-within-frame").c_str()) == 0);
   const auto r = RunDynref("diff '" + dir + "/a.dtr' '" + dir + "/rev.dtr'");
   CHECK(r.exit_code == 0);
   CHECK(r.output.find("MATCH") != std::string::npos);
 }
 
-TEST_CASE("the Python writer writes schema 3 from a schema 2 dump (associated = map_point_id)") {
+TEST_CASE("the Python writer writes schema 3 from a schema 2 dump (associated = map_point_id)", "[cli]") {
   if (std::system("python3 --version > /dev/null 2>&1") != 0)
     FAIL("python3 not found: install it (scripts/install-deps.sh) to run this test");
   const std::string dir = dynref::test::ScratchDir("trace_python_writer_v2");
@@ -43,7 +39,7 @@ TEST_CASE("the Python writer writes schema 3 from a schema 2 dump (associated = 
   REQUIRE(RunDynref("trace dump '" + v2 + "' --format jsonl > '" + dir + "/r.jsonl'").exit_code == 0);
   // A schema 2 era JSONL has no associated_map_point_id: strip it as such a dump would be.
   REQUIRE(std::system(("sed -i 's/,\"associated_map_point_id\":\"[-0-9]*\"//' '" + dir + "/r.jsonl'").c_str()) == 0);
-  REQUIRE(Slurp(dir + "/r.jsonl").find("associated") == std::string::npos);
+  REQUIRE(dynref::test::ReadFileBytes(dir + "/r.jsonl").find("associated") == std::string::npos);
   const std::string py = "python3 '" + dynref::test::SourcePath("ref/trace/dtr_from_jsonl.py") + "' ";
   REQUIRE(std::system((py + "'" + dir + "/r.jsonl' '" + dir + "/v3.dtr'").c_str()) == 0);
   const auto head = RunDynref("trace dump '" + dir + "/v3.dtr' --header");

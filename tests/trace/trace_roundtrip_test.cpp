@@ -18,10 +18,6 @@ std::string Dump(const std::string& path, DumpOptions o = {}) {
   WriteDump(r, o, s);
   return s.str();
 }
-std::string Slurp(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
-}
 }  // namespace
 
 TEST_CASE("writer to reader round trip keeps every value bit-exact") {
@@ -76,11 +72,11 @@ TEST_CASE("dump is canonical text with 17 significant digits and parses back los
         "distance 3.2 px > 1 px\"}}\n");
 }
 
-TEST_CASE("two writes of the same records give byte-identical files and dumps") {
+TEST_CASE("two writes of the same records give byte-identical files and dumps", "[cli]") {
   const std::string dir = dynref::test::ScratchDir("trace_determinism");
   dynref::test::WriteSampleTrace(dir + "/a.dtr");
   dynref::test::WriteSampleTrace(dir + "/b.dtr");
-  CHECK(Slurp(dir + "/a.dtr") == Slurp(dir + "/b.dtr"));
+  CHECK(dynref::test::ReadFileBytes(dir + "/a.dtr") == dynref::test::ReadFileBytes(dir + "/b.dtr"));
   const auto a = dynref::test::RunDynref("trace dump '" + dir + "/a.dtr'");
   const auto b = dynref::test::RunDynref("trace dump '" + dir + "/b.dtr' --format csv");
   CHECK(a.exit_code == 0);
@@ -128,7 +124,7 @@ TEST_CASE("OBS associated_map_point_id is an exact field of the canonical view, 
         std::string::npos);
 }
 
-TEST_CASE("schema 2 traces (no associated field) read with associated = map_point_id") {
+TEST_CASE("schema 2 traces (no associated field) read with associated = map_point_id", "[cli]") {
   // tests/data/trace_v2: `dynref trace bench --frames 3 --features 6 --residuals 2` of dynref schema 2.
   const std::string v2 = dynref::test::SourcePath("tests/data/trace_v2/bench_schema2.dtr");
   TraceReader r(v2);

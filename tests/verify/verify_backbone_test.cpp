@@ -21,18 +21,18 @@ using dynref::trace::EntityKind;
 using dynref::trace::NamedValue;
 using Inputs = std::vector<NamedValue>;
 
-nlohmann::json Param(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
+nlohmann::json BackboneParam(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
 
-std::string Config() {
+std::string BackboneConfig() {
   nlohmann::json c;
   c["method"] = "orb";
-  c["backbone"] = {{"features", Param("orb")},           {"scale_factor", Param("1.2")},
-                   {"n_levels", Param("8")},             {"pose_chi2_mono", Param("5.991")},
-                   {"pose_chi2_stereo", Param("7.815")}, {"pose_weighted_outlier_test", Param("false")},
-                   {"ba_chi2_mono", Param("5.991")},     {"ba_chi2_stereo", Param("7.815")},
-                   {"ba_weighted_outlier_test", Param("false")}, {"line_literal_residual", Param("false")},
-                   {"line_sigma_px", Param("1")},        {"plane_angle_sigma_deg", Param("1")},
-                   {"plane_dist_sigma_m", Param("0.02")}};
+  c["backbone"] = {{"features", BackboneParam("orb")},           {"scale_factor", BackboneParam("1.2")},
+                   {"n_levels", BackboneParam("8")},             {"pose_chi2_mono", BackboneParam("5.991")},
+                   {"pose_chi2_stereo", BackboneParam("7.815")}, {"pose_weighted_outlier_test", BackboneParam("false")},
+                   {"ba_chi2_mono", BackboneParam("5.991")},     {"ba_chi2_stereo", BackboneParam("7.815")},
+                   {"ba_weighted_outlier_test", BackboneParam("false")}, {"line_literal_residual", BackboneParam("false")},
+                   {"line_sigma_px", BackboneParam("1")},        {"plane_angle_sigma_deg", BackboneParam("1")},
+                   {"plane_dist_sigma_m", BackboneParam("0.02")}};
   c["stages"] = nlohmann::json::array();
   return c.dump();
 }
@@ -47,10 +47,10 @@ double Huber(double s, double d2) { return s <= d2 ? s : 2 * std::sqrt(s * d2) -
 // (0.04, 0.04, 2) with a (1, 0, 1) px residual; feature 1 (octave 0, no depth) observes mp6 with
 // a (0, 3) residual: chi2 9 > 5.991, outlier. Line ml3 (frame line 0) and plane mpl2 (frame plane
 // 0) join the call; keyframe kf1 is made and local BA #1 observes mp5 in it.
-std::string WriteTrace(const std::string& dir, Plant plant) {
+std::string BackboneWriteTrace(const std::string& dir, Plant plant) {
   dynref::trace::RunHeader h;
   h.method = "orb";
-  h.config_json = Config();
+  h.config_json = BackboneConfig();
   h.extra.push_back({"camera_json", nlohmann::json({{"fx", 500.0}, {"fy", 500.0}, {"cx", 320.0}, {"cy", 240.0},
                                                     {"bf", 40.0}, {"th_depth", 40.0}, {"width", 640}, {"height", 480}})
                                         .dump()});
@@ -112,9 +112,9 @@ std::string WriteTrace(const std::string& dir, Plant plant) {
   return path;
 }
 
-dynref::verify::VerifyReport Verify(Plant plant, const std::string& name, std::string* text = nullptr) {
+dynref::verify::VerifyReport BackboneVerify(Plant plant, const std::string& name, std::string* text = nullptr) {
   const std::string dir = dynref::test::ScratchDir("verify_backbone_" + name);
-  const std::string path = WriteTrace(dir, plant);
+  const std::string path = BackboneWriteTrace(dir, plant);
   dynref::trace::TraceReader reader(path);
   const dynref::verify::TraceModel model(reader);
   dynref::verify::VerifierList list;
@@ -136,7 +136,7 @@ TEST_CASE("verify backbone: the family registers its verifiers", "[verify]") {
 
 TEST_CASE("verify backbone: hand-built residual, link, keyframe and structure records verify", "[verify]") {
   std::string text;
-  const auto r = Verify(Plant::kNone, "ok", &text);
+  const auto r = BackboneVerify(Plant::kNone, "ok", &text);
   INFO(text);
   // 4 pose-only residuals + 4 links, 2 BA residuals + 2 links, 2 keyframes, 2 structure, and the
   // mgd.diffuse record (not a backbone stage: unverifiable here).
@@ -166,7 +166,7 @@ TEST_CASE("verify backbone: planted wrong residual fields are mismatches naming 
   };
   for (const Case& c : cases) {
     std::string text;
-    const auto r = Verify(c.plant, c.name, &text);
+    const auto r = BackboneVerify(c.plant, c.name, &text);
     INFO(c.name << "\n" << text);
     CHECK(r.stages.at(c.stage).mismatched == 1);
     CHECK(r.mismatched == 1);
@@ -178,7 +178,7 @@ TEST_CASE("verify backbone: planted wrong residual fields are mismatches naming 
 TEST_CASE("verify backbone: a missing link, link input or keyframe record makes residuals unverifiable", "[verify]") {
   {
     std::string text;
-    const auto r = Verify(Plant::kNoLink, "no_link", &text);
+    const auto r = BackboneVerify(Plant::kNoLink, "no_link", &text);
     INFO(text);
     CHECK(r.stages.at("track.pose").unverifiable == 1);
     CHECK(text.find("unverifiable frame 1 residual track.pose#1 mp5@f1") != std::string::npos);
@@ -186,7 +186,7 @@ TEST_CASE("verify backbone: a missing link, link input or keyframe record makes 
   }
   {
     std::string text;
-    const auto r = Verify(Plant::kNoLinkFeature, "no_link_feature", &text);
+    const auto r = BackboneVerify(Plant::kNoLinkFeature, "no_link_feature", &text);
     INFO(text);
     CHECK(r.stages.at("track.pose").unverifiable == 1);
     CHECK(r.stages.at("track.pose.obs").unverifiable == 1);
@@ -194,7 +194,7 @@ TEST_CASE("verify backbone: a missing link, link input or keyframe record makes 
   }
   {
     std::string text;
-    const auto r = Verify(Plant::kNoKeyFrame, "no_keyframe", &text);
+    const auto r = BackboneVerify(Plant::kNoKeyFrame, "no_keyframe", &text);
     INFO(text);
     CHECK(r.stages.at("localba").unverifiable == 2);
     CHECK(r.stages.at("localba.obs").unverifiable == 2);

@@ -20,36 +20,36 @@ using dynref::trace::EntityKind;
 using dynref::trace::NamedValue;
 using Inputs = std::vector<NamedValue>;
 
-struct Plant {
+struct BlurPlant {
   std::string stage, entity;
   std::string drop_input;
   double after_delta = 0;
   std::string reason;  // replaces the reason of a DECISION on `entity`
 };
 
-nlohmann::json Param(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
+nlohmann::json BlurParam(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
 
-std::string Config() {
+std::string BlurConfig() {
   nlohmann::json c;
   c["method"] = "blur";
   c["stages"] = nlohmann::json::array(
       {{{"name", "blur.mask"},
         {"params",
-         {{"compensation", Param(true)}, {"r_threshold", Param(0.9)}, {"history", Param(3)},
-          {"iou_found", Param(0.3)}, {"max_consecutive", Param(1)}, {"depth_fusion", Param(true)},
-          {"grid_cols", Param(4)}, {"grid_rows", Param(3)}, {"samples_per_cell", Param(1)},
-          {"alpha_m", Param(0.3)}, {"sigma_mult", Param(3.0)}, {"dilation_size", Param(2)},
-          {"sampling_seed", Param(7)}}}},
+         {{"compensation", BlurParam(true)}, {"r_threshold", BlurParam(0.9)}, {"history", BlurParam(3)},
+          {"iou_found", BlurParam(0.3)}, {"max_consecutive", BlurParam(1)}, {"depth_fusion", BlurParam(true)},
+          {"grid_cols", BlurParam(4)}, {"grid_rows", BlurParam(3)}, {"samples_per_cell", BlurParam(1)},
+          {"alpha_m", BlurParam(0.3)}, {"sigma_mult", BlurParam(3.0)}, {"dilation_size", BlurParam(2)},
+          {"sampling_seed", BlurParam(7)}}}},
        {{"name", "blur.probability"},
         {"params",
-         {{"compute", Param(true)}, {"radius_px", Param(20)}, {"c1", Param(1.0)}, {"c2", Param(0.05)},
-          {"theta", Param(0.2)}}}}});
+         {{"compute", BlurParam(true)}, {"radius_px", BlurParam(20)}, {"c1", BlurParam(1.0)}, {"c2", BlurParam(0.05)},
+          {"theta", BlurParam(0.2)}}}}});
   return c.dump();
 }
 
 // Stratified samples of the first fused frame: 4 x 3 cells of 40 x 40 px, one per cell, row
 // then column drawn from Rng(7, "blur.depth_sampling"); how many fall in [x0, x1] x [y0, y1].
-int InBox(int x0, int y0, int x1, int y1) {
+int BlurInBox(int x0, int y0, int x1, int y1) {
   dynref::Rng rng(7, "blur.depth_sampling");
   int n = 0;
   for (int r = 0; r < 3; ++r)
@@ -60,10 +60,10 @@ int InBox(int x0, int y0, int x1, int y1) {
   return n;
 }
 
-std::string WriteTrace(const std::string& dir, const Plant& plant) {
+std::string BlurWriteTrace(const std::string& dir, const BlurPlant& plant) {
   dynref::trace::RunHeader h;
   h.method = "blur";
-  h.config_json = Config();
+  h.config_json = BlurConfig();
   h.extra.emplace_back("camera_json", R"({"fx":100,"fy":100,"cx":80,"cy":60,"bf":40,"th_depth":40,"width":160,"height":120})");
   const std::string path = dir + "/trace.dtr";
   dynref::trace::TraceWriter w(path, dynref::trace::Level::kFull, h);
@@ -118,7 +118,7 @@ std::string WriteTrace(const std::string& dir, const Plant& plant) {
   counts(1600, 1500, 1600, 0, 50, 400);
   person("i3.4", 2, 0, 0, box(80, 40, 119, 79), 0.3);
   decision("blur.compensation", EntityKind::kPixelRegion, "r2.0", "lost:not-triggered");
-  const int in_box = InBox(80, 40, 119, 79);
+  const int in_box = BlurInBox(80, 40, 119, 79);
   Inputs depth = box(80, 40, 119, 79);
   depth.insert(depth.begin(), {"box", 0});
   depth.insert(depth.end(), {{"in_box", double(in_box)}, {"samples", 1}, {"g_h", 2.0}, {"lo", 1.7}, {"hi", 2.3},
@@ -147,7 +147,7 @@ std::string WriteTrace(const std::string& dir, const Plant& plant) {
 std::string WriteLeavingTrace(const std::string& dir, const std::string& reason) {
   dynref::trace::RunHeader h;
   h.method = "blur";
-  h.config_json = Config();
+  h.config_json = BlurConfig();
   h.extra.emplace_back("camera_json", R"({"fx":100,"fy":100,"cx":80,"cy":60,"bf":40,"th_depth":40,"width":160,"height":120})");
   const std::string path = dir + "/trace.dtr";
   dynref::trace::TraceWriter w(path, dynref::trace::Level::kFull, h);
@@ -174,7 +174,7 @@ std::string WriteLeavingTrace(const std::string& dir, const std::string& reason)
   return path;
 }
 
-dynref::verify::VerifyReport Verify(const std::string& path) {
+dynref::verify::VerifyReport BlurVerify(const std::string& path) {
   return dynref::verify::test::VerifyWith(path, dynref::verify::AddBlurVerifiers);
 }
 
@@ -184,8 +184,8 @@ using dynref::verify::test::Examples;
 
 TEST_CASE("verify blur: hand-built association, paste, track end, fusion and keypoint records verify", "[verify]") {
   const std::string dir = dynref::test::ScratchDir("verify_blur_ok");
-  REQUIRE(InBox(80, 40, 119, 79) >= 1);  // the box covers cell (2, 1) whole
-  const dynref::verify::VerifyReport r = Verify(WriteTrace(dir, {}));
+  REQUIRE(BlurInBox(80, 40, 119, 79) >= 1);  // the box covers cell (2, 1) whole
+  const dynref::verify::VerifyReport r = BlurVerify(BlurWriteTrace(dir, {}));
   INFO(Examples(r));
   CHECK(r.ok());
   CHECK(r.stages.at("blur.compensation").verified == 5);
@@ -195,7 +195,7 @@ TEST_CASE("verify blur: hand-built association, paste, track end, fusion and key
 
 TEST_CASE("verify blur: a planted wrong after, input or reason is named", "[verify]") {
   const std::string dir = dynref::test::ScratchDir("verify_blur_planted");
-  struct Case { Plant plant; std::string stage; bool mismatch; std::string fragment; };
+  struct Case { BlurPlant plant; std::string stage; bool mismatch; std::string fragment; };
   const std::vector<Case> cases = {
       {{"blur.compensation", "r2.0", "", -0.5, ""}, "blur.compensation", true, "r2.0 field after"},
       {{"blur.compensation", "r2.0", "t1", 0, ""}, "blur.compensation", false, "r2.0: not in the trace: input t1"},
@@ -209,7 +209,7 @@ TEST_CASE("verify blur: a planted wrong after, input or reason is named", "[veri
   };
   for (const Case& k : cases) {
     INFO(k.plant.stage + " " + k.plant.entity + " " + k.plant.drop_input + " " + k.plant.reason);
-    const dynref::verify::VerifyReport r = Verify(WriteTrace(dir, k.plant));
+    const dynref::verify::VerifyReport r = BlurVerify(BlurWriteTrace(dir, k.plant));
     const std::string ex = Examples(r);
     INFO(ex);
     CHECK(!r.ok());
@@ -221,11 +221,11 @@ TEST_CASE("verify blur: a planted wrong after, input or reason is named", "[veri
 
 TEST_CASE("verify blur: a track predicted out of the image ends as lost:outside-image", "[verify]") {
   const std::string dir = dynref::test::ScratchDir("verify_blur_leaving");
-  const dynref::verify::VerifyReport ok = Verify(WriteLeavingTrace(dir, "lost:outside-image"));
+  const dynref::verify::VerifyReport ok = BlurVerify(WriteLeavingTrace(dir, "lost:outside-image"));
   INFO(Examples(ok));
   CHECK(ok.ok());
   CHECK(ok.stages.at("blur.compensation").verified == 3);
-  const dynref::verify::VerifyReport bad = Verify(WriteLeavingTrace(dir, "lost:not-triggered"));
+  const dynref::verify::VerifyReport bad = BlurVerify(WriteLeavingTrace(dir, "lost:not-triggered"));
   const std::string ex = Examples(bad);
   INFO(ex);
   CHECK(bad.stages.at("blur.compensation").mismatched == 1);

@@ -2,6 +2,7 @@
 // in configs/ verifies with 0 mismatched and 0 unverifiable records; a planted wrong record (one
 // `after` changed, one input removed) makes it exit 1 naming the record.
 #include <catch2/catch.hpp>
+#include <sys/stat.h>
 #include <algorithm>
 #include <filesystem>
 #include <set>
@@ -27,15 +28,30 @@ const std::vector<std::string> kConfigs = {
     "semantic_orbmap", "sgdo", "sgdo_G", "sgdo_O", "sgdo_S", "sgdo_SG", "sgdo_SGD", "sgdo_SGO", "sgdo_nodense",
     "sgdo_vote"};
 
-// Synthesises walking_xyz (seed 1, 30 frames, yolo-like detections) into the test's own folder
-// and runs `config` on it at trace level full; returns the run folder.
-std::string RunConfig(const std::string& config, int frames = 30) {
-  const std::string dir = dynref::test::ScratchDir("verify_" + config);
-  const std::string seq = dir + "/seq", run = dir + "/run";
-  const auto s = RunDynref("synth --preset walking_xyz --seed 1 --frames " + std::to_string(frames) +
-                           " --detections yolo-like --out " + Quote(seq));
+// walking_xyz (seed 1, yolo-like detections) synthesised once per dynref build and shared by every
+// config's test: the tests run as parallel processes, so the first one writes it under a lock and
+// the others reuse it (synth publishes the folder whole, by rename). The folder is named by the
+// executable's modification time and size, so a rebuilt synth never reuses an older sequence.
+std::string SharedSequence(int frames) {
+  struct stat st {};
+  REQUIRE(::stat(dynref::test::DynrefExe().c_str(), &st) == 0);
+  const std::string dir = std::string(DYNREF_BINARY_DIR) + "/test_scratch/verify_shared";
+  const std::string seq = dir + "/walking_xyz_" + std::to_string(frames) + "_" + std::to_string(st.st_mtime) + "_" +
+                          std::to_string(st.st_size);
+  const std::string make = "test -d " + Quote(seq) + " || " + Quote(dynref::test::DynrefExe()) +
+                           " synth --preset walking_xyz --seed 1 --frames " + std::to_string(frames) +
+                           " --detections yolo-like --out " + Quote(seq);
+  const auto s = dynref::test::RunShell("mkdir -p " + Quote(dir) + " && flock " + Quote(dir + "/.lock") + " sh -c \"" +
+                                        make + "\"");
   INFO(s.output);
   REQUIRE(s.exit_code == 0);
+  return seq;
+}
+
+// Runs `config` on the shared sequence at trace level full; returns the run folder.
+std::string RunConfig(const std::string& config, int frames = 30) {
+  const std::string dir = dynref::test::ScratchDir("verify_" + config);
+  const std::string seq = SharedSequence(frames), run = dir + "/run";
   const auto r = RunDynref("run --config " + Quote(dynref::test::SourcePath("configs/" + config + ".yaml")) +
                            " --sequence " + Quote(seq) + " --detections " + Quote(seq + "/detections/yolo-like") +
                            " --trace full --out " + Quote(run));
@@ -111,7 +127,7 @@ void Rewrite(const std::string& in, const std::string& out, Edit edit) {
 
 }  // namespace
 
-TEST_CASE("trace verify end to end: a planted wrong record is a mismatch, a removed input unverifiable", "[verify]") {
+TEST_CASE("trace verify end to end: a planted wrong record is a mismatch, a removed input unverifiable", "[verify][cli]") {
   const std::string run = RunConfig("mgd", 8);
   const std::string dir = fs::path(run).parent_path().string();
   const std::string trace = run + "/trace.dtr";
@@ -154,7 +170,7 @@ TEST_CASE("trace verify end to end: a planted wrong record is a mismatch, a remo
   CHECK(d.output.find("mgd.smooth " + target) != std::string::npos);
 }
 
-TEST_CASE("trace verify: a trace below level full and a missing file are bad input", "[verify]") {
+TEST_CASE("trace verify: a trace below level full and a missing file are bad input", "[verify][cli]") {
   const std::string dir = dynref::test::ScratchDir("verify_bad_input");
   const auto s = RunDynref("synth --preset static_xyz --seed 1 --frames 3 --out " + Quote(dir + "/seq"));
   REQUIRE(s.exit_code == 0);

@@ -17,7 +17,7 @@ using dynref::trace::EntityKind;
 using dynref::trace::NamedValue;
 using Inputs = std::vector<NamedValue>;
 
-struct Plant {
+struct EpiPlant {
   std::string stage, entity;
   std::string drop_input;
   double after_delta = 0;
@@ -25,25 +25,25 @@ struct Plant {
   double input_delta = 0;
 };
 
-nlohmann::json Param(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
+nlohmann::json EpiParam(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
 
-constexpr double kF = 500, kCx = 320, kCy = 240;
+constexpr double kEpiF = 500, kEpiCx = 320, kEpiCy = 240;
 
-std::string Config() {
+std::string EpiConfig() {
   nlohmann::json c;
   c["method"] = "epi_test";
-  c["backbone"] = {{"mnn2_matching", Param(true)}, {"mnn2_ratio", Param(0.95)}};
+  c["backbone"] = {{"mnn2_matching", EpiParam(true)}, {"mnn2_ratio", EpiParam(0.95)}};
   c["stages"] = nlohmann::json::array(
       {{{"name", "epi.enhance"},
         {"params",
-         {{"s", Param(0.01)}, {"optimise", Param(false)}, {"alpha", Param(0.5)}, {"p", Param(1.0)},
-          {"boa_population", Param(20)}, {"boa_iterations", Param(30)}, {"alpha_max", Param(2.0)},
-          {"p_min", Param(0.25)}, {"p_max", Param(3.0)}}}},
+         {{"s", EpiParam(0.01)}, {"optimise", EpiParam(false)}, {"alpha", EpiParam(0.5)}, {"p", EpiParam(1.0)},
+          {"boa_population", EpiParam(20)}, {"boa_iterations", EpiParam(30)}, {"alpha_max", EpiParam(2.0)},
+          {"p_min", EpiParam(0.25)}, {"p_max", EpiParam(3.0)}}}},
        {{"name", "epi.vote"},
-        {"params", {{"epi_threshold_px", Param(1.0)}, {"vote_ratio", Param(0.6)}, {"pose_min_inliers", Param(12)}}}},
+        {"params", {{"epi_threshold_px", EpiParam(1.0)}, {"vote_ratio", EpiParam(0.6)}, {"pose_min_inliers", EpiParam(12)}}}},
        {{"name", "epi.nerf"},
-        {"params", {{"parallax_cos_max", Param(0.9998)}, {"reprojection_px", Param(2.447651936)},
-                    {"mnn_ratio", Param(0.95)}, {"mnn_tau_bits", Param(100)}}}}});
+        {"params", {{"parallax_cos_max", EpiParam(0.9998)}, {"reprojection_px", EpiParam(2.447651936)},
+                    {"mnn_ratio", EpiParam(0.95)}, {"mnn_tau_bits", EpiParam(100)}}}}});
   return c.dump();
 }
 
@@ -68,11 +68,11 @@ Inputs Mnn2(double kf, double i, double d1, double d2, double rev, double rev_d,
 // with three matched keypoints (D 0.5, 3, 6: 2 of 3 > 1 px, dynamic), mask 2 with an untracked
 // keypoint (no match: dynamic), their exclusions; MNN2 rows (accepted, ratio, not mutual, one
 // triangulation row the epipolar test rejects); the NeRF export of a match of X = (0.2, 0.1, 2).
-std::string WriteTrace(const std::string& dir, const Plant& plant) {
+std::string EpiWriteTrace(const std::string& dir, const EpiPlant& plant) {
   dynref::trace::RunHeader h;
   h.method = "epi_test";
-  h.config_json = Config();
-  h.extra.emplace_back("camera_json", nlohmann::json({{"fx", kF}, {"fy", kF}, {"cx", kCx}, {"cy", kCy}, {"bf", 40.0},
+  h.config_json = EpiConfig();
+  h.extra.emplace_back("camera_json", nlohmann::json({{"fx", kEpiF}, {"fy", kEpiF}, {"cx", kEpiCx}, {"cy", kEpiCy}, {"bf", 40.0},
                                                       {"th_depth", 40.0}, {"width", 640}, {"height", 480},
                                                       {"k1", 0.0}, {"k2", 0.0}, {"p1", 0.0}, {"p2", 0.0}, {"k3", 0.0}})
                                           .dump());
@@ -139,8 +139,8 @@ std::string WriteTrace(const std::string& dir, const Plant& plant) {
   prob("epi.nerf", EntityKind::kKeyFrame, "kf0", k0, 0);
   prob("epi.nerf", EntityKind::kKeyFrame, "kf1", k1, 0);
   const double X = 0.2, Y = 0.1, Z = 2;
-  const double u1 = kF * (X - 0.1) / Z + kCx, v1 = kF * Y / Z + kCy, u0 = kF * X / Z + kCx;
-  const double a[3] = {(u1 - kCx) / kF, (v1 - kCy) / kF, 1}, b[3] = {(u0 - kCx) / kF, (v1 - kCy) / kF, 1};
+  const double u1 = kEpiF * (X - 0.1) / Z + kEpiCx, v1 = kEpiF * Y / Z + kEpiCy, u0 = kEpiF * X / Z + kEpiCx;
+  const double a[3] = {(u1 - kEpiCx) / kEpiF, (v1 - kEpiCy) / kEpiF, 1}, b[3] = {(u0 - kEpiCx) / kEpiF, (v1 - kEpiCy) / kEpiF, 1};
   const double cos = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) /
                      (std::sqrt(a[0] * a[0] + a[1] * a[1] + 1) * std::sqrt(b[0] * b[0] + b[1] * b[1] + 1));
   w.Observation(4, -1, u1, v1, 0.0, 0, 0);
@@ -153,7 +153,7 @@ std::string WriteTrace(const std::string& dir, const Plant& plant) {
   return path;
 }
 
-dynref::verify::VerifyReport Verify(const std::string& path) {
+dynref::verify::VerifyReport EpiVerify(const std::string& path) {
   return dynref::verify::test::VerifyWith(path, dynref::verify::AddEpiVerifiers);
 }
 
@@ -169,7 +169,7 @@ TEST_CASE("verify epi: the family registers its verifiers", "[verify]") {
 
 TEST_CASE("verify epi: hand-built enhancement, epipolar vote, MNN2 and NeRF records verify", "[verify]") {
   const std::string dir = dynref::test::ScratchDir("verify_epi_ok");
-  const dynref::verify::VerifyReport r = Verify(WriteTrace(dir, {}));
+  const dynref::verify::VerifyReport r = EpiVerify(EpiWriteTrace(dir, {}));
   INFO(Examples(r));
   CHECK(r.ok());
   CHECK(r.stages.at("epi.enhance").verified == 1);
@@ -183,7 +183,7 @@ TEST_CASE("verify epi: hand-built enhancement, epipolar vote, MNN2 and NeRF reco
 
 TEST_CASE("verify epi: a planted wrong after, input or missing input is named", "[verify]") {
   const std::string dir = dynref::test::ScratchDir("verify_epi_planted");
-  struct Case { Plant plant; std::string stage; bool mismatch; std::string fragment; };
+  struct Case { EpiPlant plant; std::string stage; bool mismatch; std::string fragment; };
   const std::vector<Case> cases = {
       {{"epi.epipolar", "f1.0", "", 1.0}, "epi.epipolar", true, "f1.0 field after"},
       {{"epi.epipolar", "f1.1", "", 0, "distance_px", 0.25}, "epi.epipolar", true, "f1.1 field distance_px"},
@@ -200,7 +200,7 @@ TEST_CASE("verify epi: a planted wrong after, input or missing input is named", 
   };
   for (const Case& k : cases) {
     INFO(k.plant.stage + " " + k.plant.entity);
-    const dynref::verify::VerifyReport r = Verify(WriteTrace(dir, k.plant));
+    const dynref::verify::VerifyReport r = EpiVerify(EpiWriteTrace(dir, k.plant));
     const std::string ex = Examples(r);
     INFO(ex);
     CHECK(!r.ok());

@@ -12,41 +12,44 @@
 #include "trace/trace_writer.h"
 #include "verify/verifier.h"
 #include "verify/verify_run.h"
+#include "verify_test_support.h"
 
 namespace {
+
+using dynref::verify::test::Examples;
 
 using dynref::trace::EntityKind;
 using dynref::trace::NamedValue;
 using Inputs = std::vector<NamedValue>;
 
-struct Plant {
+struct MgdPlant {
   std::string stage, entity;  // the PROB (or DECISION, stage "<stage>.decision") to change
   std::string drop_input;
   double after_delta = 0;
   bool flip_kept = false;
 };
 
-nlohmann::json Param(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
+nlohmann::json MgdParam(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
 
-std::string Config() {
-  nlohmann::json p = {{"min_confidence", Param(0.5)}, {"initial_pose_out_of_box", Param(true)},
-                      {"p_init_box", Param(0.5)}, {"p_init_free", Param(0.0)}, {"delta", Param(0.6)},
-                      {"match_radius_px", Param(15)}, {"use_ls", Param(true)}, {"use_pro", Param(true)},
-                      {"use_mf", Param(true)}, {"d_th_ls_px", Param(3)}, {"theta_th_ls_rad", Param(2)},
-                      {"a_ls", Param(0.5)}, {"angle_form", Param("angle_to_mean")}, {"min_velocity_px", Param(0.5)},
-                      {"d_th_pro_px", Param(2)}, {"a_pro", Param(1.0)}, {"d_th_mf_px", Param(2)}, {"a_mf", Param(1.0)},
-                      {"w_ls", Param(0.4)}, {"w_pro", Param(0.4)}, {"w_mf", Param(0.2)}, {"a", Param(0.7)},
-                      {"smoothing", Param("new_evidence")}, {"diffusion", Param(true)}, {"radius_m", Param(0.15)},
-                      {"line_cue_form", Param("pseudo_point")}, {"tau_dyn", Param(0.5)}, {"weight", Param("one_minus_p")}};
+std::string MgdConfig() {
+  nlohmann::json p = {{"min_confidence", MgdParam(0.5)}, {"initial_pose_out_of_box", MgdParam(true)},
+                      {"p_init_box", MgdParam(0.5)}, {"p_init_free", MgdParam(0.0)}, {"delta", MgdParam(0.6)},
+                      {"match_radius_px", MgdParam(15)}, {"use_ls", MgdParam(true)}, {"use_pro", MgdParam(true)},
+                      {"use_mf", MgdParam(true)}, {"d_th_ls_px", MgdParam(3)}, {"theta_th_ls_rad", MgdParam(2)},
+                      {"a_ls", MgdParam(0.5)}, {"angle_form", MgdParam("angle_to_mean")}, {"min_velocity_px", MgdParam(0.5)},
+                      {"d_th_pro_px", MgdParam(2)}, {"a_pro", MgdParam(1.0)}, {"d_th_mf_px", MgdParam(2)}, {"a_mf", MgdParam(1.0)},
+                      {"w_ls", MgdParam(0.4)}, {"w_pro", MgdParam(0.4)}, {"w_mf", MgdParam(0.2)}, {"a", MgdParam(0.7)},
+                      {"smoothing", MgdParam("new_evidence")}, {"diffusion", MgdParam(true)}, {"radius_m", MgdParam(0.15)},
+                      {"line_cue_form", MgdParam("pseudo_point")}, {"tau_dyn", MgdParam(0.5)}, {"weight", MgdParam("one_minus_p")}};
   nlohmann::json c;
   c["method"] = "mgd";
-  c["backbone"] = {{"features", Param("orb")}};
+  c["backbone"] = {{"features", MgdParam("orb")}};
   c["stages"] = nlohmann::json::array({{{"name", "mgd.boxes"}}, {{"name", "mgd.probability"}, {"params", p}},
                                        {{"name", "mgd.reprojection"}}});
   return c.dump();
 }
 
-constexpr double kFx = 535.4, kFy = 539.2, kCx = 320.1, kCy = 247.6;
+constexpr double kMgdFx = 535.4, kMgdFy = 539.2, kMgdCx = 320.1, kMgdCy = 247.6;
 double Sig(double z) { return 1.0 / (1.0 + std::exp(-z)); }
 double Logit(double p) { return std::log(p / (1.0 - p)); }
 
@@ -54,11 +57,11 @@ double Logit(double p) { return std::log(p / (1.0 - p)); }
 // 2 gets P_pro = sig((1 + 3) / 2 - 2) = 0.5 from keyframe 0. Frame 1: camera moved by t = 0.1 m
 // along x (horizontal epipolar lines: d_epi = |v - v_prev|), every feature corresponds to its
 // index in frame 0, all three within 0.15 m of each other (diffusion), feature 2 on mp5.
-std::string WriteTrace(const std::string& dir, const Plant& plant) {
+std::string MgdWriteTrace(const std::string& dir, const MgdPlant& plant) {
   dynref::trace::RunHeader h;
   h.method = "mgd";
-  h.config_json = Config();
-  h.extra.push_back({"camera_json", nlohmann::json({{"fx", kFx}, {"fy", kFy}, {"cx", kCx}, {"cy", kCy}, {"bf", 40.0},
+  h.config_json = MgdConfig();
+  h.extra.push_back({"camera_json", nlohmann::json({{"fx", kMgdFx}, {"fy", kMgdFy}, {"cx", kMgdCx}, {"cy", kMgdCy}, {"bf", 40.0},
                                                     {"th_depth", 40.0}, {"width", 640}, {"height", 480}})
                                         .dump()});
   const std::string path = dir + "/trace.dtr";
@@ -155,7 +158,7 @@ std::string WriteTrace(const std::string& dir, const Plant& plant) {
   }
   // Diffusion (Jacobi) over the three feature points.
   Eigen::Vector3d X[3];
-  for (int i = 0; i < 3; ++i) X[i] = Eigen::Vector3d((u1[i] - kCx) * z1[i] / kFx, (v1[i] - kCy) * z1[i] / kFy, z1[i]);
+  for (int i = 0; i < 3; ++i) X[i] = Eigen::Vector3d((u1[i] - kMgdCx) * z1[i] / kMgdFx, (v1[i] - kMgdCy) * z1[i] / kMgdFy, z1[i]);
   double p[3];
   for (int i = 0; i < 3; ++i) {
     double sw = 0, swp = 0;
@@ -191,7 +194,7 @@ std::string WriteTrace(const std::string& dir, const Plant& plant) {
   return path;
 }
 
-dynref::verify::VerifyReport Verify(const std::string& path) {
+dynref::verify::VerifyReport MgdVerify(const std::string& path) {
   dynref::trace::TraceReader reader(path);
   const dynref::verify::TraceModel model(reader);
   dynref::verify::VerifierList list;
@@ -205,18 +208,11 @@ dynref::verify::VerifyReport Verify(const std::string& path) {
   return dynref::verify::VerifyTrace(model, list, {});
 }
 
-std::string Examples(const dynref::verify::VerifyReport& r) {
-  std::string out;
-  for (const auto& [stage, s] : r.stages)
-    for (const std::string& e : s.examples) out += e + "\n";
-  return out;
-}
-
 }  // namespace
 
 TEST_CASE("verify mgd: a consistent hand-built trace verifies record by record", "[verify]") {
   const std::string dir = dynref::test::ScratchDir("verify_mgd_ok");
-  const auto report = Verify(WriteTrace(dir, {}));
+  const auto report = MgdVerify(MgdWriteTrace(dir, {}));
   INFO(Examples(report));
   CHECK(report.mismatched == 0);
   CHECK(report.unverifiable == 0);
@@ -238,9 +234,9 @@ TEST_CASE("verify mgd: a changed `after` is a mismatch naming the record", "[ver
   for (const Case& k : {Case{"mgd.diffuse", "f1.1", "1"}, Case{"mgd.P_mf", "f1.0", "1"}, Case{"mgd.P_LS", "f1.2", "1"},
                         Case{"mgd.smooth", "l1.0", "1"}, Case{"mgd.boxes", "f0.1", "0"}, Case{"mgd.inherit", "f1.0", "1"},
                         Case{"mgd.reprojection", "mp5", "0"}, Case{"mgd.map_point", "mp5", "1"}}) {
-    Plant p;
+    MgdPlant p;
     p.stage = k.stage, p.entity = k.entity, p.after_delta = 0.01;
-    const auto report = Verify(WriteTrace(dynref::test::ScratchDir("verify_mgd_after"), p));
+    const auto report = MgdVerify(MgdWriteTrace(dynref::test::ScratchDir("verify_mgd_after"), p));
     INFO(k.stage << " " << k.entity << "\n" << Examples(report));
     REQUIRE(report.stages.count(k.stage) == 1);
     CHECK(report.stages.at(k.stage).mismatched >= 1);
@@ -257,9 +253,9 @@ TEST_CASE("verify mgd: a removed input makes the record unverifiable", "[verify]
   };
   for (const Case& k : {Case{"mgd.diffuse", "f1.0", "x"}, Case{"mgd.frame", "f1", "prev_T_cw[3]"},
                         Case{"mgd.P_pro", "f1.2", "source_mp"}, Case{"mgd.inherit", "l1.0", "prev_sample"}}) {
-    Plant p;
+    MgdPlant p;
     p.stage = k.stage, p.entity = k.entity, p.drop_input = k.input;
-    const auto report = Verify(WriteTrace(dynref::test::ScratchDir("verify_mgd_drop"), p));
+    const auto report = MgdVerify(MgdWriteTrace(dynref::test::ScratchDir("verify_mgd_drop"), p));
     INFO(k.stage << " " << k.input << "\n" << Examples(report));
     REQUIRE(report.stages.count(k.stage) == 1);
     CHECK(report.stages.at(k.stage).unverifiable >= 1);
@@ -269,9 +265,9 @@ TEST_CASE("verify mgd: a removed input makes the record unverifiable", "[verify]
 }
 
 TEST_CASE("verify mgd: a decision against tau_dyn is a mismatch", "[verify]") {
-  Plant p;
+  MgdPlant p;
   p.stage = "mgd.probability.decision", p.entity = "f1.1", p.flip_kept = true;
-  const auto report = Verify(WriteTrace(dynref::test::ScratchDir("verify_mgd_decision"), p));
+  const auto report = MgdVerify(MgdWriteTrace(dynref::test::ScratchDir("verify_mgd_decision"), p));
   INFO(Examples(report));
   REQUIRE(report.stages.count("mgd.probability") == 1);
   CHECK(report.stages.at("mgd.probability").mismatched == 1);

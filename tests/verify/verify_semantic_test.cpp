@@ -16,33 +16,33 @@ using dynref::trace::EntityKind;
 using dynref::trace::NamedValue;
 using Inputs = std::vector<NamedValue>;
 
-struct Plant {
+struct SemanticPlant {
   std::string stage, entity;
   std::string drop_input;
   double after_delta = 0;
   std::string reason;  // for stage "semantic.mask.decision"
 };
 
-nlohmann::json Param(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
+nlohmann::json SemanticParam(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
 
-std::string Config() {
+std::string SemanticConfig() {
   nlohmann::json c;
   c["method"] = "semantic";
   c["stages"] = nlohmann::json::array(
       {{{"name", "semantic.mask"},
         {"params",
-         {{"prior_dynamic_classes", Param({"person", "dog"})}, {"min_confidence", Param("0.25")},
-          {"d_max_px", Param("6")}, {"t_int_m", Param("0.3")}, {"interaction", Param("true")},
-          {"dilation_kernel_px", Param("1")}, {"reject_keypoints", Param("true")}}}}});
+         {{"prior_dynamic_classes", SemanticParam({"person", "dog"})}, {"min_confidence", SemanticParam("0.25")},
+          {"d_max_px", SemanticParam("6")}, {"t_int_m", SemanticParam("0.3")}, {"interaction", SemanticParam("true")},
+          {"dilation_kernel_px", SemanticParam("1")}, {"reject_keypoints", SemanticParam("true")}}}}});
   return c.dump();
 }
 
 // Frame 2: a person (1), a chair touching it (3: non-prior dynamic), a monitor behind it (4:
 // static), a low-confidence book (5: not classified); keypoints 0 and 5 removed.
-std::string WriteTrace(const std::string& dir, const Plant& plant) {
+std::string SemanticWriteTrace(const std::string& dir, const SemanticPlant& plant) {
   dynref::trace::RunHeader h;
   h.method = "semantic";
-  h.config_json = Config();
+  h.config_json = SemanticConfig();
   const std::string path = dir + "/trace.dtr";
   dynref::trace::TraceWriter w(path, dynref::trace::Level::kFull, h);
   auto prob = [&](const std::string& stage, EntityKind kind, const std::string& id, Inputs in, double after) {
@@ -77,7 +77,7 @@ std::string WriteTrace(const std::string& dir, const Plant& plant) {
   return path;
 }
 
-dynref::verify::VerifyReport Verify(const std::string& path) {
+dynref::verify::VerifyReport SemanticVerify(const std::string& path) {
   return dynref::verify::test::VerifyWith(path, dynref::verify::AddSemanticVerifiers);
 }
 
@@ -87,7 +87,7 @@ using dynref::verify::test::Examples;
 
 TEST_CASE("verify semantic: hand-built class partition, interaction and removal records verify", "[verify]") {
   const std::string dir = dynref::test::ScratchDir("verify_semantic_ok");
-  const dynref::verify::VerifyReport r = Verify(WriteTrace(dir, {}));
+  const dynref::verify::VerifyReport r = SemanticVerify(SemanticWriteTrace(dir, {}));
   INFO(Examples(r));
   CHECK(r.ok());
   CHECK(r.stages.at("semantic.interaction").verified == 2);
@@ -96,7 +96,7 @@ TEST_CASE("verify semantic: hand-built class partition, interaction and removal 
 
 TEST_CASE("verify semantic: a planted wrong after or missing input is named", "[verify]") {
   const std::string dir = dynref::test::ScratchDir("verify_semantic_planted");
-  struct Case { Plant plant; std::string stage; bool mismatch; std::string fragment; };
+  struct Case { SemanticPlant plant; std::string stage; bool mismatch; std::string fragment; };
   const std::vector<Case> cases = {
       {{"semantic.interaction", "i2.4", "", 1.0, ""}, "semantic.interaction", true, "i2.4 field after"},
       {{"semantic.interaction", "i2.3", "dz_mean_m", 0, ""}, "semantic.interaction", false, "i2.3: not in the trace: input dz_mean_m"},
@@ -107,7 +107,7 @@ TEST_CASE("verify semantic: a planted wrong after or missing input is named", "[
   };
   for (const Case& k : cases) {
     INFO(k.plant.stage + " " + k.plant.entity);
-    const dynref::verify::VerifyReport r = Verify(WriteTrace(dir, k.plant));
+    const dynref::verify::VerifyReport r = SemanticVerify(SemanticWriteTrace(dir, k.plant));
     const std::string ex = Examples(r);
     INFO(ex);
     CHECK(!r.ok());

@@ -19,42 +19,42 @@ using dynref::trace::NamedValue;
 using Inputs = std::vector<NamedValue>;
 
 // What a test plants in the otherwise consistent trace.
-struct Plant {
+struct SgdoPlant {
   std::string stage, entity;  // the PROB to change
   std::string drop_input;     // remove this input
   double after_delta = 0;     // add this to `after`
   std::string reason;         // decision reason to write instead (decision of `entity`)
 };
 
-nlohmann::json Param(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
+nlohmann::json SgdoParam(const nlohmann::json& v) { return {{"value", v}, {"source", "test"}}; }
 
-std::string Config() {
+std::string SgdoConfig() {
   nlohmann::json c;
   c["method"] = "sgdo";
   c["backbone"] = nlohmann::json::object();
   c["stages"] = nlohmann::json::array(
       {{{"name", "sgdo.mask"},
         {"params",
-         {{"dynamic_classes", Param({"person"})}, {"min_confidence", Param("0.25")},
-          {"dilation_kernel_px", Param("15")}, {"reject_in_mask", Param("false")}}}},
+         {{"dynamic_classes", SgdoParam({"person"})}, {"min_confidence", SgdoParam("0.25")},
+          {"dilation_kernel_px", SgdoParam("15")}, {"reject_in_mask", SgdoParam("false")}}}},
        {{"name", "sgdo.coarse"},
         {"params",
-         {{"combination", Param("per_point")}, {"th_epi_px", Param("1.0")}, {"vote_ratio", Param("0.5")},
-          {"border_px", Param("5")}, {"patch_sad_max", Param("2120")}, {"ransac_threshold_px", Param("1.0")}}}},
+         {{"combination", SgdoParam("per_point")}, {"th_epi_px", SgdoParam("1.0")}, {"vote_ratio", SgdoParam("0.5")},
+          {"border_px", SgdoParam("5")}, {"patch_sad_max", SgdoParam("2120")}, {"ransac_threshold_px", SgdoParam("1.0")}}}},
        {{"name", "sgdo.depth"},
-        {"params", {{"eta", Param("0.1")}, {"lambda", Param("100")}, {"reject", Param("true")}, {"weight", Param("true")}}}}});
+        {"params", {{"eta", SgdoParam("0.1")}, {"lambda", SgdoParam("100")}, {"reject", SgdoParam("true")}, {"weight", SgdoParam("true")}}}}});
   return c.dump();
 }
 
-constexpr double kFx = 535.4, kFy = 539.2, kCx = 320.1, kCy = 247.6;
+constexpr double kSgdoFx = 535.4, kSgdoFy = 539.2, kSgdoCx = 320.1, kSgdoCy = 247.6;
 
 // One frame (1) of a consistent sgdo trace: two instances, ten LK pairs with F = [t]x for
 // t = (1, 0, 0) (horizontal epipolar lines: D = |v_prev - v_cur|), and two depth tests.
-std::string WriteTrace(const std::string& dir, const Plant& plant) {
+std::string SgdoWriteTrace(const std::string& dir, const SgdoPlant& plant) {
   dynref::trace::RunHeader h;
   h.method = "sgdo";
-  h.config_json = Config();
-  h.extra.push_back({"camera_json", nlohmann::json({{"fx", kFx}, {"fy", kFy}, {"cx", kCx}, {"cy", kCy}, {"bf", 40.0},
+  h.config_json = SgdoConfig();
+  h.extra.push_back({"camera_json", nlohmann::json({{"fx", kSgdoFx}, {"fy", kSgdoFy}, {"cx", kSgdoCx}, {"cy", kSgdoCy}, {"bf", 40.0},
                                                     {"th_depth", 40.0}, {"width", 640}, {"height", 480}})
                                         .dump()});
   const std::string path = dir + "/trace.dtr";
@@ -118,11 +118,11 @@ std::string WriteTrace(const std::string& dir, const Plant& plant) {
   const double d_k[2] = {2.0, 1.5};  // feature 0: eps 0.05 (kept, omega e^-0.25); 1: eps 0.4 (rejected)
   for (int i = 0; i < 2; ++i) {
     const Pair& p = pairs[static_cast<size_t>(i)];
-    const double d = 2.0, x = d * (p.u2 - kCx) / kFx, y = d * (p.v2 - kCy) / kFy, z = d + 0.1;
+    const double d = 2.0, x = d * (p.u2 - kSgdoCx) / kSgdoFx, y = d * (p.v2 - kSgdoCy) / kSgdoFy, z = d + 0.1;
     const double eps = (z - d_k[i]) / d_k[i], omega = std::exp(-100 * eps * eps);
     const bool reject = std::abs(eps) > 0.1;
     prob("sgdo.depth", EntityKind::kFeature, "f1." + std::to_string(i),
-         {{"kf", 0}, {"depth_i_m", d}, {"u_k", kFx * x / z + kCx}, {"v_k", kFy * y / z + kCy}, {"z_k", z}, {"d_k", d_k[i]},
+         {{"kf", 0}, {"depth_i_m", d}, {"u_k", kSgdoFx * x / z + kSgdoCx}, {"v_k", kSgdoFy * y / z + kSgdoCy}, {"z_k", z}, {"d_k", d_k[i]},
           {"eps", eps}, {"eta", 0.1}, {"lambda", 100}, {"tested", 1}, {"omega", omega}, {"weight", reject ? 1.0 : omega}},
          0, reject ? 1.0 : 1.0 - omega);
     if (reject) decision("sgdo.depth", EntityKind::kFeature, "f1." + std::to_string(i), false, "depth-eps");
@@ -135,7 +135,7 @@ std::string WriteTrace(const std::string& dir, const Plant& plant) {
   return path;
 }
 
-dynref::verify::VerifyReport Verify(const std::string& path) {
+dynref::verify::VerifyReport SgdoVerify(const std::string& path) {
   return dynref::verify::test::VerifyWith(path, dynref::verify::AddSgdoVerifiers);
 }
 
@@ -145,7 +145,7 @@ using dynref::verify::test::Examples;
 
 TEST_CASE("verify sgdo: hand-built records of every sgdo stage verify", "[verify]") {
   const std::string dir = dynref::test::ScratchDir("verify_sgdo_ok");
-  const dynref::verify::VerifyReport r = Verify(WriteTrace(dir, {}));
+  const dynref::verify::VerifyReport r = SgdoVerify(SgdoWriteTrace(dir, {}));
   INFO(Examples(r));
   CHECK(r.ok());
   CHECK(r.stages.at("sgdo.epipolar").verified == 10);
@@ -158,7 +158,7 @@ TEST_CASE("verify sgdo: hand-built records of every sgdo stage verify", "[verify
 
 TEST_CASE("verify sgdo: a planted wrong after or missing input is named", "[verify]") {
   const std::string dir = dynref::test::ScratchDir("verify_sgdo_planted");
-  struct Case { Plant plant; std::string stage; bool mismatch; std::string fragment; };
+  struct Case { SgdoPlant plant; std::string stage; bool mismatch; std::string fragment; };
   const std::vector<Case> cases = {
       {{"sgdo.epipolar", "f1.3", "", 1.0, ""}, "sgdo.epipolar", true, "f1.3 field after"},
       {{"sgdo.epipolar", "f1.2", "D_px", 0, ""}, "sgdo.epipolar", false, "prob sgdo.epipolar f1.2: not in the trace: input D_px"},
@@ -171,7 +171,7 @@ TEST_CASE("verify sgdo: a planted wrong after or missing input is named", "[veri
   };
   for (const Case& k : cases) {
     INFO(k.plant.stage + " " + k.plant.entity);
-    const dynref::verify::VerifyReport r = Verify(WriteTrace(dir, k.plant));
+    const dynref::verify::VerifyReport r = SgdoVerify(SgdoWriteTrace(dir, k.plant));
     const std::string ex = Examples(r);
     INFO(ex);
     CHECK(!r.ok());

@@ -19,7 +19,8 @@ void EnhanceParams::Check() const {
   if (!(alpha >= 0)) throw std::invalid_argument("alpha must be >= 0");
   if (!(p > 0)) throw std::invalid_argument("p must be > 0");
   if (!(e0 > 0)) throw std::invalid_argument("e0 must be > 0");
-  if (!(down > 0 && down < 1)) throw std::invalid_argument("down must be in (0, 1)");
+  if (!(down >= kMinEnhanceDown && down < 1))
+    throw std::invalid_argument("down must be in [0.05, 1)");  // kMinEnhanceDown
   if (!(w_ms >= 0 && w_ms <= 1)) throw std::invalid_argument("w_ms must be in [0, 1]");
   if (!(clahe_clip > 0)) throw std::invalid_argument("clahe_clip must be > 0");
   if (clahe_tiles < 1) throw std::invalid_argument("clahe_tiles must be >= 1");

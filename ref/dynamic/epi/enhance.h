@@ -16,13 +16,16 @@
 
 namespace dynref::epi {
 
+// Smallest two-scale factor `down` (read_options.cpp says why).
+constexpr double kMinEnhanceDown = 0.05;
+
 struct EnhanceParams {
   double s = 0.01;            // CDF clipping proportion (not stated: 1 % / 99 %)
   int window = 7;             // w, odd (not stated)
   double alpha = 0.5;         // weight coefficient (optimised by BOA in the paper)
   double p = 1.0;             // weight exponent (optimised by BOA in the paper)
   double e0 = 0.01;           // contrast floor in W's denominator (not stated)
-  double down = 0.5;          // two-scale down factor (not stated)
+  double down = 0.5;          // two-scale down factor (not stated), in [kMinEnhanceDown, 1)
   double w_ms = 0.5;          // two-scale weight (not stated)
   double clahe_clip = 2.0;    // OpenCV common value (not stated)
   int clahe_tiles = 8;        // 8 x 8 tiles (not stated)

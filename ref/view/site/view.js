@@ -34,19 +34,54 @@ function loadScript(src, keep = true) {
 }
 async function summaryOf(k) { await loadScript(`data/r${k}/summary.js`); return S.summary[k]; }
 
-// A packed data string (ref/view/packed.h: zlib, base64) as JSON.
-async function inflate(b64) {
-  const bin = atob(b64);
-  const bytes = new Uint8Array(bin.length);
-  for (let i = 0; i < bin.length; ++i) bytes[i] = bin.charCodeAt(i);
-  const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('deflate'));
+// A packed data string (ref/view/packed.h: zlib, basE91 with '-' for '"') as JSON.
+const B91 = 'ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789!#$%&()*+,./:;<=>?@[]^_`{|}~-';
+const B91_VALUE = new Int16Array(128).fill(-1);
+for (let i = 0; i < B91.length; ++i) B91_VALUE[B91.charCodeAt(i)] = i;
+function unbase91(text) {
+  const bytes = new Uint8Array(Math.ceil(text.length * 14 / 16) + 1);
+  let b = 0, n = 0, v = -1, o = 0;
+  for (let i = 0; i < text.length; ++i) {
+    const d = B91_VALUE[text.charCodeAt(i)];
+    if (d < 0) throw new Error('invalid data character');
+    if (v < 0) { v = d; continue; }
+    v += d * 91;
+    b |= v << n;
+    n += (v & 8191) > 88 ? 13 : 14;
+    do { bytes[o++] = b & 255; b >>>= 8; n -= 8; } while (n > 7);
+    v = -1;
+  }
+  if (v >= 0) bytes[o++] = (b | v << n) & 255;
+  return bytes.subarray(0, o);
+}
+async function inflate(b91) {
+  const stream = new Blob([unbase91(b91)]).stream().pipeThrough(new DecompressionStream('deflate'));
   return JSON.parse(await new Response(stream).text());
+}
+// Packed columns back to plain ones (packed.h PackColumns): templates {c, t, n} expanded, then
+// references {"=": [schema, index]} to an earlier column resolved.
+function expandColumns(cols) {
+  const expand = (c) => {
+    if (Array.isArray(c) || !c.t) return c;
+    const cur = c.n.map(() => 0), out = new Array(c.c);
+    for (let i = 0; i < c.c; ++i) {
+      let s = c.t[0];
+      for (let k = 0; k < c.n.length; ++k) s += (cur[k] += c.n[k][i]) + c.t[k + 1];
+      out[i] = s;
+    }
+    return out;
+  };
+  const plain = {};
+  for (const sid of Object.keys(cols)) plain[sid] = cols[sid].map(expand);
+  for (const sid of Object.keys(plain))
+    plain[sid] = plain[sid].map((c) => (Array.isArray(c) ? c : plain[c['='][0]][c['='][1]]));
+  return plain;
 }
 // Columns (order + per-schema columns) back to rows [schema, entity, occurrence, values...].
 function unpack(p) {
-  const next = {};
+  const next = {}, cols = expandColumns(p.cols);
   return p.order.map((sid) => {
-    const c = p.cols[sid];
+    const c = cols[sid];
     const j = (next[sid] = next[sid] === undefined ? 0 : next[sid] + 1);
     const row = [sid, c[0][j], c[1][j]];
     for (let f = 2; f < c.length; ++f) row.push(c[f][j]);
