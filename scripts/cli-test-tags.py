@@ -4,7 +4,9 @@ own file or in a test header, carries the tag [cli]: the sanitizer job (scripts/
 registers only the untagged unit tests and the [golden] ones (DEVELOPERS.md: "keep the sanitizer
 job on unit tests and goldens").
   python3 scripts/cli-test-tags.py           list untagged CLI tests, exit 1 if there is one (a ctest)
-  python3 scripts/cli-test-tags.py --write   add the missing tags in place"""
+  python3 scripts/cli-test-tags.py --write   add the missing tags in place
+A TEST_CASE whose name is not one string literal (made by a macro, e.g. verify_configs_test.cpp) is
+not seen: tag it by hand."""
 import re, sys, pathlib
 ROOT = pathlib.Path(__file__).resolve().parent.parent / 'tests'
 SEED = {'RunDynref', 'ExpectBadInput', 'DynrefExe'}

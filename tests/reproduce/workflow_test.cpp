@@ -18,11 +18,11 @@ std::string Snakemake() {
   return exe;
 }
 
-const char* const kMatrix = " --frames 30 --seeds 1,2 --sequences walking_xyz,sitting_static --variants orb,sgdo_nodense";
+const char* const kMatrix = " --frames 45 --seeds 1,2 --sequences walking_xyz,sitting_static --variants orb,sgdo_nodense";
 
 std::string SnakeConfig(const std::string& work, const std::string& reports) {
   return " --config dynref=" + test::DynrefExe() + " work=" + work + " reports=" + reports +
-         " frames=30 'seeds=[1,2]' 'sequences=[walking_xyz,sitting_static]' 'variants=[orb,sgdo_nodense]'"
+         " frames=45 'seeds=[1,2]' 'sequences=[walking_xyz,sitting_static]' 'variants=[orb,sgdo_nodense]'"
          " 'sensitivity=[walking_xyz]' 'tables=[sgdo-table6,sgdo-table1]'";
 }
 
@@ -35,7 +35,7 @@ TEST_CASE("workflow: snakemake -j 2 and dynref reproduce write byte-identical re
                                                 dir + "/a --out " + dir + "/ra/sgdo-table6.md");
   INFO(a.output);
   REQUIRE(a.exit_code == 0);
-  const test::CommandResult a1 = test::RunDynref(std::string("reproduce sgdo-table1 --frames 30 --seeds 1,2 --sequences "
+  const test::CommandResult a1 = test::RunDynref(std::string("reproduce sgdo-table1 --frames 45 --seeds 1,2 --sequences "
                                                              "walking_xyz,sitting_static --reuse --work ") +
                                                  dir + "/a --out " + dir + "/ra/sgdo-table1.md");
   INFO(a1.output);
@@ -68,9 +68,9 @@ TEST_CASE("workflow: snakemake -j 2 and dynref reproduce write byte-identical re
                              "/b --out " + dir + "/rc/t.md",
                          "seed1/runs/walking_xyz/orb: missing");
     CHECK(!test::FileExists(dir + "/rc/t.md"));
-    test::ExpectBadInput(std::string("reproduce sgdo-table6 --collect --frames 31 --seeds 1 --variants orb") +
+    test::ExpectBadInput(std::string("reproduce sgdo-table6 --collect --frames 46 --seeds 1 --variants orb") +
                              " --sensitivity none --sequences sitting_static --work " + dir + "/b --out " + dir + "/rc/t.md",
-                         "frames is '30', this table needs '31'");
+                         "frames is '45', this table needs '46'");
   }
 }
 

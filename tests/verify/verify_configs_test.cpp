@@ -71,7 +71,7 @@ void CheckConfigVerifies(const std::string& config) {
 }  // namespace
 
 #define DYNREF_VERIFY_CONFIG_TEST(name) \
-  TEST_CASE("trace verify end to end: configs/" #name ".yaml, 30 frames, every record recomputed", "[verify][slow]") { \
+  TEST_CASE("trace verify end to end: configs/" #name ".yaml, 30 frames, every record recomputed", "[verify][slow][cli]") { \
     CheckConfigVerifies(#name);                                                                     \
   }
 DYNREF_VERIFY_CONFIG_TEST(blur)
