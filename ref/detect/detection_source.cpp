@@ -95,6 +95,18 @@ std::vector<std::string> CocoClassNames() {
   return names;
 }
 
+void PaintInstanceMasks(const std::vector<Candidate>& kept, cv::Size image,
+                        const std::function<cv::Mat(const Candidate&)>& mask_of, FrameDetections& frame) {
+  cv::Mat ids = cv::Mat::zeros(image, CV_16U);
+  for (size_t i = kept.size(); i-- > 0;) ids.setTo(frame.instances[i].id, mask_of(kept[i]));
+  bool any = false;
+  for (DetectedInstance& d : frame.instances) {
+    d.has_mask = cv::countNonZero(ids == d.id) > 0;
+    any = any || d.has_mask;
+  }
+  if (any) frame.instance_ids = ids;
+}
+
 FrameDetections CandidatesToFrame(const std::vector<Candidate>& kept, const std::string& stamp_text,
                                   const std::vector<std::string>& class_names) {
   FrameDetections frame;

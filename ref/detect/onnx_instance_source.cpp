@@ -31,20 +31,11 @@ std::vector<cv::Mat> Forward(LoadedModel& model, const cv::Mat& blob, const std:
   return outs;
 }
 
-// Instances from kept candidates; masks painted in ascending confidence so the most confident
-// instance owns overlaps (as onnx-yolo).
+// Instances from kept candidates, with their masks (PaintInstanceMasks, as onnx-yolo).
 FrameDetections ToFrame(const std::vector<Candidate>& kept, const std::string& stamp_text, cv::Size image,
                         bool masks, const std::function<cv::Mat(const Candidate&)>& mask_of) {
   FrameDetections frame = CandidatesToFrame(kept, stamp_text, CocoClassNames());
-  if (!masks || kept.empty()) return frame;
-  cv::Mat ids = cv::Mat::zeros(image, CV_16U);
-  for (size_t i = kept.size(); i-- > 0;) ids.setTo(frame.instances[i].id, mask_of(kept[i]));
-  bool any = false;
-  for (DetectedInstance& d : frame.instances) {
-    d.has_mask = cv::countNonZero(ids == d.id) > 0;
-    any = any || d.has_mask;
-  }
-  if (any) frame.instance_ids = ids;
+  if (masks && !kept.empty()) PaintInstanceMasks(kept, image, mask_of, frame);
   return frame;
 }
 

@@ -73,20 +73,9 @@ class OnnxYoloSource : public DetectionSource {
       const std::vector<Candidate> kept =
           PerClassNms(DecodeYoloBoxes(pred, lb, threshold_), options_.nms_iou, options_.max_detections);
       FrameDetections frame = CandidatesToFrame(kept, stamp_text, names);
-      if (protos && options_.masks && !kept.empty()) {
-        cv::Mat ids = cv::Mat::zeros(bgr.size(), CV_16U);
-        // Paint in ascending confidence so the most confident instance owns overlaps.
-        for (size_t i = kept.size(); i-- > 0;) {
-          const cv::Mat mask = DecodeYoloMask(pred, *protos, kept[i], lb);
-          ids.setTo(frame.instances[i].id, mask);
-        }
-        bool any = false;
-        for (DetectedInstance& d : frame.instances) {
-          d.has_mask = cv::countNonZero(ids == d.id) > 0;
-          any = any || d.has_mask;
-        }
-        if (any) frame.instance_ids = ids;
-      }
+      if (protos && options_.masks && !kept.empty())
+        PaintInstanceMasks(kept, bgr.size(), [&](const Candidate& c) { return DecodeYoloMask(pred, *protos, c, lb); },
+                           frame);
       return frame;
     } catch (const std::invalid_argument& e) {
       throw InputError(model_.path, std::string("unexpected YOLO output: ") + e.what());

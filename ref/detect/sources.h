@@ -1,6 +1,7 @@
 // Constructors of the concrete detection sources (internal to the detect room; everything
 // outside uses MakeDetectionSource in detection_source.h).
 #pragma once
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,5 +31,10 @@ void RequireBgrImage(const cv::Mat& bgr, const std::string& stamp_text, const st
 FrameDetections CandidatesToFrame(const std::vector<Candidate>& kept, const std::string& stamp_text,
                                   const std::vector<std::string>& class_names);
 std::vector<std::string> CocoClassNames();
+// Paints mask_of(kept[i]) into frame.instance_ids with instance i's id, in ascending confidence so
+// the most confident instance owns overlaps; sets each instance's has_mask, and instance_ids only
+// when some instance kept pixels. frame is CandidatesToFrame(kept, ...).
+void PaintInstanceMasks(const std::vector<Candidate>& kept, cv::Size image,
+                        const std::function<cv::Mat(const Candidate&)>& mask_of, FrameDetections& frame);
 
 }  // namespace dynref::detect

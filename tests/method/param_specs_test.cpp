@@ -75,6 +75,27 @@ ParamMap With(const std::string& key, const std::string& value) {
   return m;
 }
 
+// Sets stage.key = value in cfg's stages and expects the Session to refuse it with an InputError at
+// the key's own line whose message contains `want`.
+void ExpectRefusedAtKeyLine(const MethodConfig& cfg, const MethodRegistry& registry, const std::string& stage,
+                            const std::string& key, const std::string& value, const std::string& want) {
+  std::vector<StageConfig> stages = cfg.stages;
+  int line = 0;
+  for (StageConfig& sc : stages)
+    if (sc.name == stage) {
+      sc.params.params.at(key).value = value;
+      line = sc.params.params.at(key).line;
+    }
+  REQUIRE(line > 0);
+  try {
+    Session s(cfg.path, stages, registry);
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK(e.line() == line);
+    CHECK(std::string(e.what()).find(want) != std::string::npos);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("param specs: NaN, infinities and out-of-range values name the key and its own line (issue 37)") {
@@ -176,22 +197,8 @@ TEST_CASE("param specs: epi.enhance down below 0.05 is refused at its line (issu
   const MethodConfig cfg = LoadMethodConfig(test::SourcePath("configs/epi.yaml"));
   for (const char* value : {"1e-308", "0.0001", "0.049"}) {
     INFO(value);
-    std::vector<StageConfig> stages = cfg.stages;
-    int line = 0;
-    for (StageConfig& sc : stages)
-      if (sc.name == "epi.enhance") {
-        sc.params.params.at("down").value = value;
-        line = sc.params.params.at("down").line;
-      }
-    REQUIRE(line > 0);
-    try {
-      Session s(cfg.path, stages, registry);
-      FAIL("no error");
-    } catch (const InputError& e) {
-      CHECK(e.line() == line);
-      CHECK(std::string(e.what()).find("epi.enhance.down: must be in [0.05, 1), got " + std::string(value)) !=
-            std::string::npos);
-    }
+    ExpectRefusedAtKeyLine(cfg, registry, "epi.enhance", "down", value,
+                           "epi.enhance.down: must be in [0.05, 1), got " + std::string(value));
   }
   std::vector<StageConfig> ok = cfg.stages;
   for (StageConfig& sc : ok)
@@ -212,21 +219,7 @@ TEST_CASE("param specs: an even LK window or border_px 0 is refused at the key's
              {"lk_window_px", "32", "must be an integer in 3..101 (odd), got 32"},
              {"border_px", "0", "must be an integer in 1..1000, got 0"}}) {
       INFO(stage << "." << key << "=" << value);
-      std::vector<StageConfig> stages = cfg.stages;
-      int line = 0;
-      for (StageConfig& sc : stages)
-        if (sc.name == stage) {
-          sc.params.params.at(key).value = value;
-          line = sc.params.params.at(key).line;
-        }
-      REQUIRE(line > 0);
-      try {
-        Session s(cfg.path, stages, registry);
-        FAIL("no error");
-      } catch (const InputError& e) {
-        CHECK(e.line() == line);
-        CHECK(std::string(e.what()).find(stage + "." + key + ": " + want) != std::string::npos);
-      }
+      ExpectRefusedAtKeyLine(cfg, registry, stage, key, value, stage + "." + key + ": " + want);
     }
   }
 }
