@@ -3,7 +3,6 @@
 //   dynref detect --source nanodet --sequence SEQ --out DIR [--model PATH] [--conf X] [--frames A-B]
 //   dynref detect --source nanodet --image photo.jpg --overlay out.png
 // Sources: ref/detect/README.md.
-#include <opencv2/imgcodecs.hpp>
 #include <chrono>
 #include <filesystem>
 #include <cmath>
@@ -24,6 +23,7 @@
 #include "detect/temporal_links.h"
 #include "io/mask_format.h"
 #include "io/sequence.h"
+#include "io/image_file.h"
 
 namespace dynref::cli {
 namespace {
@@ -68,7 +68,7 @@ void CheckArgs(const DetectArgs& a) {
 
 void WritePng(const std::string& path, const cv::Mat& image) {
   const std::string tmp = TempPathFor(path) + ".png";
-  if (!cv::imwrite(tmp, image)) throw InputError(path, "cannot write PNG");
+  if (!dynref::ImageWrite(tmp, image)) throw InputError(path, "cannot write PNG");
   AtomicRename(tmp, path);
 }
 
@@ -128,7 +128,7 @@ int RunDetect(DetectArgs a) {
 
   if (!a.image.empty()) {
     auto source = MakeDetectionSource(SpecOf(a), a.options);
-    const cv::Mat bgr = cv::imread(a.image, cv::IMREAD_COLOR);
+    const cv::Mat bgr = dynref::ImageRead(a.image, cv::IMREAD_COLOR);
     if (bgr.empty()) throw InputError(a.image, "cannot read image");
     std::string stem = a.image.substr(a.image.find_last_of('/') + 1);
     stem = stem.substr(0, stem.find_last_of('.'));

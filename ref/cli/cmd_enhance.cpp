@@ -1,5 +1,4 @@
 // `dynref enhance IMAGE|SEQ --out DIR`: seed 004 Module A on files (ref/dynamic/epi/enhance_files.h).
-#include <opencv2/imgcodecs.hpp>
 #include <sys/stat.h>
 
 #include <iostream>
@@ -10,6 +9,7 @@
 #include "dynamic/epi/enhance_files.h"
 #include "io/sequence.h"
 #include "pipeline/method_config.h"
+#include "io/image_file.h"
 
 namespace dynref::cli {
 namespace {
@@ -28,7 +28,7 @@ void RequireEnhanceableSize(const std::string& input, double down) {
     where = seq.frames.front().rgb_path;
     img = LoadRgb(seq, seq.frames.front());
   } else {
-    img = cv::imread(input, cv::IMREAD_UNCHANGED);
+    img = dynref::ImageRead(input, cv::IMREAD_UNCHANGED);
   }
   if (img.empty() || (cvRound(img.cols * down) >= 1 && cvRound(img.rows * down) >= 1)) return;
   int min_side = 1;

@@ -1,12 +1,12 @@
 #include "detect/label_png_import.h"
 
 #include <yaml-cpp/yaml.h>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <algorithm>
 
 #include "core/error.h"
 #include "io/coco_classes.h"
+#include "io/image_file.h"
 
 namespace dynref::detect {
 
@@ -50,7 +50,7 @@ LabelTable ReadLabelTable(const std::string& yaml_path) {
 
 FrameDetections ReadLabelPng(const LabelTable& table, const std::string& png_path,
                              const std::string& stamp_text) {
-  const cv::Mat raw = cv::imread(png_path, cv::IMREAD_UNCHANGED);
+  const cv::Mat raw = dynref::ImageRead(png_path, cv::IMREAD_UNCHANGED);
   if (raw.empty()) throw InputError(png_path, "missing or corrupt label PNG");
   if (raw.channels() != 1 || (raw.depth() != CV_8U && raw.depth() != CV_16U))
     throw InputError(png_path, "label PNG must be 8- or 16-bit single channel");

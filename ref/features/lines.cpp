@@ -4,8 +4,9 @@
 #include <cmath>
 #include <numeric>
 #include <opencv2/line_descriptor.hpp>
-#include <opencv2/ximgproc.hpp>
 #include <stdexcept>
+
+#include "plugins/opencv_extra_abi.h"
 
 namespace dynref::features {
 
@@ -68,9 +69,9 @@ SegmentSet DetectSegments(const cv::Mat& grey, const LineOptions& o) {
   o.Check();
   if (grey.type() != CV_8U) throw std::invalid_argument("DetectSegments needs a CV_8U grey image");
   std::vector<cv::Vec4f> raw;
-  const cv::Ptr<cv::ximgproc::FastLineDetector> fld = cv::ximgproc::createFastLineDetector(
-      o.min_length_px, static_cast<float>(o.distance_threshold_px), o.canny_low, o.canny_high, 3, false);
-  fld->detect(grey, raw);
+  // ximgproc's FastLineDetector, run in the OpenCV module (plugins/opencv_extra_abi.h).
+  plugins::OpenCvExtraModule().fast_lines(grey, o.min_length_px, static_cast<float>(o.distance_threshold_px),
+                                          o.canny_low, o.canny_high, 3, false, raw);
   std::vector<Segment> segs;
   segs.reserve(raw.size());
   for (const cv::Vec4f& r : raw) {

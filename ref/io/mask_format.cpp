@@ -2,7 +2,6 @@
 
 #include "io/coco_classes.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <algorithm>
 #include <cstdlib>
@@ -14,6 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/format.h"
+#include "io/image_file.h"
 
 namespace dynref {
 namespace {
@@ -72,7 +72,7 @@ void DetectionsWriter::Write(const FrameDetections& frame) {
       throw std::runtime_error("DetectionsWriter: instance_ids must be CV_16U for " + stem);
     const std::string png = dir_ + "/" + stem + ".png";
     const std::string tmp = TempPathFor(png) + ".png";
-    if (!cv::imwrite(tmp, frame.instance_ids)) throw std::runtime_error("cannot write " + tmp);
+    if (!dynref::ImageWrite(tmp, frame.instance_ids)) throw std::runtime_error("cannot write " + tmp);
     AtomicRename(tmp, png);
   }
   AtomicWriteFile(dir_ + "/" + stem + ".txt", t.str());
@@ -195,7 +195,7 @@ FrameDetections DetectionsReader::Read(const std::string& stamp_text, cv::Size i
       throw InputError(tpath, "instance id " + std::to_string(out.instances[i].id) + " appears twice");
   if (any_mask) {
     const std::string png = dir_ + "/" + it->second + ".png";
-    out.instance_ids = cv::imread(png, cv::IMREAD_UNCHANGED);
+    out.instance_ids = dynref::ImageRead(png, cv::IMREAD_UNCHANGED);
     if (out.instance_ids.empty()) throw InputError(png, "missing or corrupt instance-id PNG");
     if (out.instance_ids.type() != CV_16U)
       throw InputError(png, "instance-id PNG must be 16-bit single channel");

@@ -1,6 +1,5 @@
 #include "io/mask_layers.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <sys/stat.h>
 
 #include <fstream>
@@ -9,6 +8,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "io/image_file.h"
 
 namespace dynref {
 
@@ -18,7 +18,7 @@ void MaskLayersWriter::Add(const std::string& stamp_text, const cv::Mat& labels)
   if (labels.type() != CV_8U) throw std::logic_error("MaskLayersWriter: labels must be CV_8U");
   if (cv::countNonZero(labels) == 0) return;
   std::vector<uchar> buf;
-  if (!cv::imencode(".png", labels, buf)) throw std::runtime_error("cannot encode mask layer " + stamp_text);
+  if (!dynref::ImageEncode(".png", labels, buf)) throw std::runtime_error("cannot encode mask layer " + stamp_text);
   png_[stamp_text] = std::move(buf);
 }
 
@@ -64,7 +64,7 @@ cv::Mat MaskLayersReader::Read(const std::string& stamp_text, cv::Size size) con
   const std::string path = dir_ + "/" + stamp_text + ".png";
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return {};
-  const cv::Mat m = cv::imread(path, cv::IMREAD_UNCHANGED);
+  const cv::Mat m = dynref::ImageRead(path, cv::IMREAD_UNCHANGED);
   if (m.empty() || m.type() != CV_8U) throw InputError(path, "not an 8-bit single-channel PNG");
   if (m.size() != size)
     throw InputError(path, "size " + std::to_string(m.cols) + "x" + std::to_string(m.rows) + " differs from the image");

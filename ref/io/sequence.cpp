@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits.h>
-#include <opencv2/imgcodecs.hpp>
 #include <sys/stat.h>
 
 #include "core/error.h"
@@ -12,6 +11,7 @@
 #include "io/association.h"
 #include "io/stamped_list.h"
 #include "io/trajectory.h"
+#include "io/image_file.h"
 
 namespace dynref {
 namespace {
@@ -174,8 +174,8 @@ Sequence OpenSequence(const std::string& root_in, const SequenceOptions& options
   // check each later frame against the camera size).
   {
     const FrameEntry& f = seq.frames.front();
-    const cv::Mat rgb = cv::imread(f.rgb_path, cv::IMREAD_UNCHANGED);
-    const cv::Mat depth = cv::imread(f.depth_path, cv::IMREAD_UNCHANGED);
+    const cv::Mat rgb = dynref::ImageRead(f.rgb_path, cv::IMREAD_UNCHANGED);
+    const cv::Mat depth = dynref::ImageRead(f.depth_path, cv::IMREAD_UNCHANGED);
     if (rgb.empty())
       throw InputError(f.rgb_list_file, f.rgb_line, "cannot decode RGB image " + f.rgb_path);
     if (depth.empty())
@@ -210,7 +210,7 @@ Sequence OpenSequence(const std::string& root_in, const SequenceOptions& options
 }
 
 cv::Mat LoadRgb(const Sequence& seq, const FrameEntry& frame) {
-  const cv::Mat raw = cv::imread(frame.rgb_path, cv::IMREAD_UNCHANGED);
+  const cv::Mat raw = dynref::ImageRead(frame.rgb_path, cv::IMREAD_UNCHANGED);
   if (raw.empty())
     throw InputError(frame.rgb_list_file, frame.rgb_line,
                      "cannot read RGB image " + frame.rgb_path);
@@ -218,7 +218,7 @@ cv::Mat LoadRgb(const Sequence& seq, const FrameEntry& frame) {
     throw InputError(frame.rgb_list_file, frame.rgb_line,
                      "RGB image " + frame.rgb_path + " is not 8-bit");
   // Gray or BGRA files are converted by the decoder to 3-channel BGR.
-  const cv::Mat bgr = raw.channels() == 3 ? raw : cv::imread(frame.rgb_path, cv::IMREAD_COLOR);
+  const cv::Mat bgr = raw.channels() == 3 ? raw : dynref::ImageRead(frame.rgb_path, cv::IMREAD_COLOR);
   if (bgr.cols != seq.camera.width || bgr.rows != seq.camera.height)
     throw InputError(frame.rgb_list_file, frame.rgb_line,
                      "RGB image " + frame.rgb_path + " is " + std::to_string(bgr.cols) + "x" +
@@ -229,7 +229,7 @@ cv::Mat LoadRgb(const Sequence& seq, const FrameEntry& frame) {
 }
 
 cv::Mat LoadDepthMeters(const Sequence& seq, const FrameEntry& frame) {
-  const cv::Mat raw = cv::imread(frame.depth_path, cv::IMREAD_UNCHANGED);
+  const cv::Mat raw = dynref::ImageRead(frame.depth_path, cv::IMREAD_UNCHANGED);
   if (raw.empty())
     throw InputError(frame.depth_list_file, frame.depth_line,
                      "cannot read depth image " + frame.depth_path);

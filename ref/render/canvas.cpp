@@ -1,52 +1,20 @@
 #include "render/canvas.h"
 
-#include <OpenImageIO/filesystem.h>
-
 #include <algorithm>
 #include <cstdlib>
 #include <stdexcept>
 
 #include "core/atomic_file.h"
 #include "render/bitmap_font.h"
+#include "render/png_encoder.h"
 
 namespace dynref::render {
 
 Canvas::Canvas(int width, int height, Rgb background)
     : width_(width), height_(height),
-      buf_(OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8)) {
-  data_ = static_cast<uint8_t*>(buf_.localpixels());
-  if (!data_) throw std::runtime_error("canvas: no local pixel memory");
+      pixels_(static_cast<size_t>(std::max(width, 0)) * std::max(height, 0) * 3) {
   for (int y = 0; y < height_; ++y)
     for (int x = 0; x < width_; ++x) Set(x, y, background);
-}
-
-Canvas::Canvas(const Canvas& other)
-    : width_(other.width_), height_(other.height_), buf_(other.buf_),
-      data_(static_cast<uint8_t*>(buf_.localpixels())) {}
-
-Canvas::Canvas(Canvas&& other) noexcept
-    : width_(other.width_), height_(other.height_), buf_(std::move(other.buf_)),
-      data_(static_cast<uint8_t*>(buf_.localpixels())) {
-  other.data_ = nullptr;
-}
-
-Canvas& Canvas::operator=(const Canvas& other) {
-  if (this != &other) {
-    width_ = other.width_, height_ = other.height_;
-    buf_.copy(other.buf_);
-    data_ = static_cast<uint8_t*>(buf_.localpixels());
-  }
-  return *this;
-}
-
-Canvas& Canvas::operator=(Canvas&& other) noexcept {
-  if (this != &other) {
-    width_ = other.width_, height_ = other.height_;
-    buf_ = std::move(other.buf_);
-    data_ = static_cast<uint8_t*>(buf_.localpixels());
-    other.data_ = nullptr;
-  }
-  return *this;
 }
 
 Canvas Canvas::FromBgr(const cv::Mat& bgr) {
@@ -159,13 +127,7 @@ void Canvas::Paste(const Canvas& src, int x, int y) {
 void Canvas::WritePng(const std::string& path) const {
   // Encoded in memory, then written through AtomicWriteFile, which checks the flush and close:
   // OIIO's file writer returned success on a full disk and left truncated PNGs (issue 20 item 1).
-  std::vector<unsigned char> bytes;
-  OIIO::Filesystem::IOVecOutput memory(bytes);
-  OIIO::ImageBuf copy = buf_;
-  copy.set_write_ioproxy(&memory);
-  if (!copy.write(path, OIIO::TypeDesc::UINT8, "png"))
-    throw std::runtime_error("cannot encode " + path + ": " + copy.geterror());
-  AtomicWriteFile(path, std::string(bytes.begin(), bytes.end()));
+  AtomicWriteFile(path, EncodePngRgb8(pixels_.data(), width_, height_, path));
 }
 
 }  // namespace dynref::render

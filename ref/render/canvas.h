@@ -1,11 +1,10 @@
-// Off-screen RGB8 drawing surface backed by an OpenImageIO ImageBuf. Every primitive uses
+// Off-screen RGB8 drawing surface (PNGs written by OpenImageIO, render/png_encoder.h). Every primitive uses
 // integer rasterisation (and integer alpha blending), so pixels are identical on every machine.
 #pragma once
-#include <OpenImageIO/imagebuf.h>
-
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 namespace dynref::render {
 
@@ -17,11 +16,6 @@ class Canvas {
  public:
   Canvas(int width, int height, Rgb background);
   static Canvas FromBgr(const cv::Mat& bgr);  // CV_8UC3 BGR (as LoadRgb returns)
-  // Copies duplicate the pixels; both keep their raw pointer into their own ImageBuf.
-  Canvas(const Canvas& other);
-  Canvas(Canvas&& other) noexcept;
-  Canvas& operator=(const Canvas& other);
-  Canvas& operator=(Canvas&& other) noexcept;
 
   int width() const { return width_; }
   int height() const { return height_; }
@@ -46,16 +40,16 @@ class Canvas {
   // Copies `src` with its top-left at (x, y).
   void Paste(const Canvas& src, int x, int y);
 
-  const OIIO::ImageBuf& image() const { return buf_; }
   // Writes a PNG atomically (temp + rename). Throws std::runtime_error on failure.
   void WritePng(const std::string& path) const;
 
  private:
-  uint8_t* Px(int x, int y) { return data_ + (static_cast<size_t>(y) * width_ + x) * 3; }
-  const uint8_t* Px(int x, int y) const { return data_ + (static_cast<size_t>(y) * width_ + x) * 3; }
+  uint8_t* Px(int x, int y) { return pixels_.data() + (static_cast<size_t>(y) * width_ + x) * 3; }
+  const uint8_t* Px(int x, int y) const {
+    return pixels_.data() + (static_cast<size_t>(y) * width_ + x) * 3;
+  }
   int width_, height_;
-  OIIO::ImageBuf buf_;
-  uint8_t* data_;
+  std::vector<uint8_t> pixels_;  // RGB, rows top to bottom
 };
 
 }  // namespace dynref::render

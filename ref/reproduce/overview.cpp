@@ -2,7 +2,6 @@
 
 #include <filesystem>
 #include <iostream>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -15,6 +14,7 @@
 #include "reproduce/report_format.h"
 #include "reproduce/report_plots.h"
 #include "reproduce/workspace.h"
+#include "io/image_file.h"
 
 namespace fs = std::filesystem;
 
@@ -64,7 +64,7 @@ std::vector<std::string> OverlayMontage(const std::vector<RunSummary>& runs, int
     o.out_dir = work + "/overview_overlays/" + s.label;
     const std::vector<std::string> files = render::RenderRunOverlays(s.run_dir, frame, frame, o);
     if (files.empty()) continue;
-    render::Canvas c = render::Canvas::FromBgr(cv::imread(files.front(), cv::IMREAD_COLOR));
+    render::Canvas c = render::Canvas::FromBgr(dynref::ImageRead(files.front(), cv::IMREAD_COLOR));
     c.Label(8, 8, s.label, render::Rgb{255, 255, 255}, 2);
     tiles.push_back(std::move(c));
   }

@@ -1,6 +1,5 @@
 #include "reproduce/workspace.h"
 
-#include <opencv2/imgcodecs.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -26,6 +25,7 @@
 #include "synth/synth.h"
 #include "synth/world.h"
 #include "trace/trace_reader.h"
+#include "io/image_file.h"
 
 namespace fs = std::filesystem;
 
@@ -126,7 +126,7 @@ void RejectionPrecisionRecall(const std::string& seq_dir, const std::string& det
       }
     }
     // Per-part truth: the moving pixels of the frame (a seated person's arm, not their still legs).
-    const cv::Mat motion = cv::imread(seq_dir + "/gt/motion/" + stamp + ".png", cv::IMREAD_UNCHANGED);
+    const cv::Mat motion = dynref::ImageRead(seq_dir + "/gt/motion/" + stamp + ".png", cv::IMREAD_UNCHANGED);
     const auto moving_pixel = [&](double u, double v) {
       const int x = static_cast<int>(std::floor(u + 0.5)), y = static_cast<int>(std::floor(v + 0.5));
       return !motion.empty() && x >= 0 && y >= 0 && x < motion.cols && y < motion.rows && motion.at<uint8_t>(y, x) != 0;

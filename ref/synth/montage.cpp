@@ -1,6 +1,5 @@
 #include "synth/montage.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <fstream>
 #include <string>
@@ -8,6 +7,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "io/mask_format.h"
+#include "io/image_file.h"
 
 namespace dynref::synth {
 namespace {
@@ -73,9 +73,9 @@ void WriteMontage(const std::vector<std::string>& dirs, const std::string& out_p
     for (int c = 0; c < opt.frames_per_row; ++c) {
       const size_t k = std::min(stamps.size() - 1, stamps.size() * size_t(2 * c + 1) / size_t(2 * opt.frames_per_row));
       const std::string& stamp = stamps[k];
-      const cv::Mat rgb = cv::imread(dirs[r] + "/rgb/" + stamp + ".png", cv::IMREAD_COLOR);
+      const cv::Mat rgb = dynref::ImageRead(dirs[r] + "/rgb/" + stamp + ".png", cv::IMREAD_COLOR);
       if (rgb.empty()) throw InputError(dirs[r] + "/rgb/" + stamp + ".png", "missing or unreadable");
-      const cv::Mat motion = cv::imread(dirs[r] + "/gt/motion/" + stamp + ".png", cv::IMREAD_GRAYSCALE);
+      const cv::Mat motion = dynref::ImageRead(dirs[r] + "/gt/motion/" + stamp + ".png", cv::IMREAD_GRAYSCALE);
       cv::Mat tile;
       cv::resize(Overlay(rgb, gt.Read(stamp), motion), tile, cv::Size(tw, th), 0, 0, cv::INTER_AREA);
       tile.copyTo(canvas(cv::Rect(c * tw, int(r) * th, tw, th)));
@@ -84,7 +84,7 @@ void WriteMontage(const std::vector<std::string>& dirs, const std::string& out_p
         std::string a, ap, d, dp;
         while (assoc >> a >> ap >> d >> dp)
           if (a == stamp) break;
-        cv::Mat depth = cv::imread(dirs[r] + "/" + dp, cv::IMREAD_UNCHANGED), d8, colour;
+        cv::Mat depth = dynref::ImageRead(dirs[r] + "/" + dp, cv::IMREAD_UNCHANGED), d8, colour;
         if (!depth.empty()) {
           depth.convertTo(d8, CV_8U, 255.0 / (4.5 * 5000.0));
           cv::applyColorMap(d8, colour, cv::COLORMAP_JET);
@@ -100,7 +100,7 @@ void WriteMontage(const std::vector<std::string>& dirs, const std::string& out_p
                 cv::Scalar(255, 255, 255), 1);
   }
   const std::string tmp = TempPathFor(out_png) + ".png";
-  if (!cv::imwrite(tmp, canvas, {cv::IMWRITE_PNG_COMPRESSION, 9})) throw std::runtime_error("cannot write " + tmp);
+  if (!dynref::ImageWrite(tmp, canvas, {cv::IMWRITE_PNG_COMPRESSION, 9})) throw std::runtime_error("cannot write " + tmp);
   AtomicRename(tmp, out_png);
 }
 

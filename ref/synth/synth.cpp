@@ -2,7 +2,6 @@
 
 #include "synth/scene_export.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -24,13 +23,14 @@
 #include "synth/degrade.h"
 #include "synth/sensor.h"
 #include "synth/world.h"
+#include "io/image_file.h"
 
 namespace dynref::synth {
 namespace {
 
 void WritePng(const std::string& path, const cv::Mat& image) {
   const std::string tmp = TempPathFor(path) + ".png";
-  if (!cv::imwrite(tmp, image)) throw std::runtime_error("cannot write " + tmp);
+  if (!dynref::ImageWrite(tmp, image)) throw std::runtime_error("cannot write " + tmp);
   AtomicRename(tmp, path);
 }
 

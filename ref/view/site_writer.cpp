@@ -6,7 +6,6 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "core/atomic_file.h"
@@ -15,6 +14,7 @@
 #include "trace/trace_diff.h"
 #include "view/site_assets.h"
 #include "view/site_data.h"
+#include "io/image_file.h"
 
 namespace dynref::view {
 namespace {
@@ -44,10 +44,10 @@ std::map<int64_t, std::string> RenderImages(const std::string& run, int k, const
     const std::string stem = fs::path(png).stem().string();
     const int64_t frame = std::stoll(stem.substr(stem.find('_') + 1));
     const std::string rel = "img/r" + std::to_string(k) + "_" + std::to_string(frame) + ".jpg";
-    cv::Mat img = cv::imread(png, cv::IMREAD_COLOR);
+    cv::Mat img = dynref::ImageRead(png, cv::IMREAD_COLOR);
     if (!img.empty() && options.image_scale != 1.0)
       cv::resize(img, img, cv::Size(), options.image_scale, options.image_scale, cv::INTER_AREA);
-    if (img.empty() || !cv::imwrite(out_dir + "/" + rel, img, params))
+    if (img.empty() || !dynref::ImageWrite(out_dir + "/" + rel, img, params))
       throw InputError(out_dir + "/" + rel, "cannot write the overlay image");
     images[frame] = rel;
   }

@@ -3,7 +3,6 @@
 // message; `enhance` on an image too small for its two-scale step; an installed, moved prefix
 // finds its configs and models.
 #include <catch2/catch.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include <filesystem>
 #include <fstream>
@@ -11,6 +10,7 @@
 #include <vector>
 
 #include "test_support.h"
+#include "io/image_file.h"
 
 using dynref::test::FileExists;
 using dynref::test::Quote;
@@ -81,7 +81,7 @@ TEST_CASE("cli: libpng / libjpeg / OpenCV lines do not precede dynref's message 
   const std::string d = ScratchDir("cli_codec_messages");
   cv::Mat img(72, 96, CV_8UC3, cv::Scalar(10, 200, 30));
   std::vector<uchar> png;
-  REQUIRE(cv::imencode(".png", img, png));
+  REQUIRE(dynref::ImageEncode(".png", img, png));
   std::string bytes(png.begin(), png.end());
   bytes[20] = char(bytes[20] ^ 0xff);  // IHDR CRC error
   std::ofstream(d + "/crc.png", std::ios::binary) << bytes;
@@ -110,7 +110,7 @@ TEST_CASE("cli: enhance on an image too small for the two-scale step is a clear 
   const std::string d = ScratchDir("cli_enhance_tiny");
   for (const cv::Size size : {cv::Size(1, 1), cv::Size(2, 1), cv::Size(1, 5)}) {
     const std::string name = std::to_string(size.width) + "x" + std::to_string(size.height);
-    REQUIRE(cv::imwrite(d + "/" + name + ".png", cv::Mat(size, CV_8UC3, cv::Scalar(40, 80, 120))));
+    REQUIRE(dynref::ImageWrite(d + "/" + name + ".png", cv::Mat(size, CV_8UC3, cv::Scalar(40, 80, 120))));
     const auto r = RunDynref("enhance " + Quote(d + "/" + name + ".png") + " --out " + Quote(d + "/out" + name));
     INFO(r.output);
     CHECK(r.exit_code == 2);
@@ -119,7 +119,7 @@ TEST_CASE("cli: enhance on an image too small for the two-scale step is a clear 
     CHECK(r.output.find("Assertion") == std::string::npos);
     CHECK_FALSE(FileExists(d + "/out" + name));
   }
-  REQUIRE(cv::imwrite(d + "/2x2.png", cv::Mat(2, 2, CV_8UC3, cv::Scalar(40, 80, 120))));
+  REQUIRE(dynref::ImageWrite(d + "/2x2.png", cv::Mat(2, 2, CV_8UC3, cv::Scalar(40, 80, 120))));
   CHECK(RunDynref("enhance " + Quote(d + "/2x2.png") + " --out " + Quote(d + "/out2x2")).exit_code == 0);
 }
 
@@ -132,7 +132,7 @@ TEST_CASE("cli: cmake --install into a prefix, moved, runs --method sgdo from th
   REQUIRE(install.exit_code == 0);
   for (const char* f : {"bin/dynref", "share/dynref/configs/sgdo.yaml", "share/dynref/configs/orb.yaml",
                         "share/dynref/models/nanodet.onnx", "share/dynref/models/selfie.onnx",
-                        "share/dynref/reports/paper-tables"})
+                        "share/dynref/reports/paper-tables", "lib/dynref/dynref_oiio_png.so"})
     CHECK(FileExists(prefix + "/" + f));
   fs::create_directories(d + "/elsewhere");
   fs::rename(prefix, moved);
@@ -142,17 +142,48 @@ TEST_CASE("cli: cmake --install into a prefix, moved, runs --method sgdo from th
   // The configs come from the moved prefix: a config the source tree does not have proves it.
   WriteText(moved + "/share/dynref/configs/only_installed.yaml",
             dynref::test::ReadFileBytes(moved + "/share/dynref/configs/sgdo.yaml"));
+  // sgdo with --overlays: the OpenImageIO PNG module is loaded from the moved prefix's lib/dynref.
   for (const std::string method : {"sgdo", "only_installed"}) {
-    const auto r = RunShell(exe + " run --method " + method + " --no-progress --sequence " + Quote(d + "/seq") +
+    const std::string overlays = method == "sgdo" ? " --overlays --trace full" : "";
+    const auto r = RunShell(exe + " run --method " + method + overlays + " --no-progress --sequence " + Quote(d + "/seq") +
                             " --detections " + Quote(d + "/seq/detections/yolo-like") + " --out " +
                             Quote(d + "/run_" + method));
     INFO(r.output);
     CHECK(r.exit_code == 0);
     CHECK(FileExists(d + "/run_" + method + "/trajectory.txt"));
   }
+  CHECK(FileExists(d + "/run_sgdo/overlays/overlay_000003.png"));
   // The bundled models are found there too (nanodet + selfie, sha256-checked).
   const auto det = RunShell(exe + " detect --source nanodet --sequence " + Quote(d + "/seq") + " --frames 0-0 --out " +
                             Quote(d + "/det"));
   INFO(det.output);
   CHECK(det.exit_code == 0);
+}
+
+// Issue 37: every call cost ~0.5 CPU-s and 140 MB before main, loading ~280 shared libraries
+// (OpenImageIO, OpenCV's imgcodecs/ximgproc and GDAL behind them). They are loadable modules now
+// (core/modules.h): a command that touches no image loads none of them. The dynamic loader's own
+// list (LD_DEBUG=libs) is the evidence; libopencv_core is the control that the list is read.
+TEST_CASE("cli: dynref version and eval load neither OpenImageIO nor imgcodecs nor GDAL (issue 37)", "[cli]") {
+  const std::string d = ScratchDir("cli_startup_libs");
+  WriteText(d + "/t.txt", kTraj);
+  for (const std::string& args : std::vector<std::string>{"version", "eval --delta-unit f --delta 1 --gt " + Quote(d + "/t.txt") + " --est " + Quote(d + "/t.txt")}) {
+    // The loader's list goes to stderr; the command's own output is dropped.
+    const auto r = RunShell("( LD_DEBUG=libs " + Quote(dynref::test::DynrefExe()) + " " + args + " 2>&1 >/dev/null )");
+    INFO(args);
+    CHECK(r.exit_code == 0);
+    CHECK(r.output.find("libopencv_core") != std::string::npos);
+    for (const char* lib : {"libOpenImageIO", "libopencv_imgcodecs", "libopencv_ximgproc", "libgdal"})
+      CHECK(r.output.find(lib) == std::string::npos);
+  }
+}
+
+// The image path loads the module once and reads the same pixels cv::imread does.
+TEST_CASE("cli: the OpenCV module is loaded for an image and gives imread's pixels (issue 37)") {
+  const std::string d = ScratchDir("cli_module_image");
+  const cv::Mat img(3, 4, CV_16UC1, cv::Scalar(4321));
+  REQUIRE(dynref::ImageWrite(d + "/d.png", img));
+  const cv::Mat back = dynref::ImageRead(d + "/d.png", cv::IMREAD_UNCHANGED);
+  REQUIRE(back.type() == CV_16UC1);
+  CHECK(cv::countNonZero(back != img) == 0);
 }

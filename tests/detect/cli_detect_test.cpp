@@ -4,11 +4,11 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "io/mask_format.h"
 #include "test_support.h"
+#include "io/image_file.h"
 
 using dynref::test::RunDynref;
 using dynref::test::ScratchDir;
@@ -122,7 +122,7 @@ TEST_CASE("cli: detect --source labels: rejects masks of another size than the s
   std::filesystem::create_directories(dir + "/labels");
   cv::Mat lab = cv::Mat::zeros(240, 320, CV_8U);  // the sequence is 640x480
   lab(cv::Rect(10, 10, 20, 30)).setTo(3);
-  REQUIRE(cv::imwrite(dir + "/labels/1305031453.359684.png", lab));
+  REQUIRE(dynref::ImageWrite(dir + "/labels/1305031453.359684.png", lab));
   dynref::test::WriteText(dir + "/labels/labels.yaml", "png_kind: semantic\nconfidence: 0.9\nlabels:\n  3: person\n");
   const auto r = RunDynref("detect --source labels:" + dir + "/labels " + kSeq + " --out '" + dir + "/out' --frames 0-0");
   INFO(r.output);
@@ -138,7 +138,7 @@ TEST_CASE("cli: a failed detect rerun leaves the earlier folder whole (issue 20 
   const std::string index_before = dynref::test::ReadFileBytes(out + "/index.txt");
   // A rerun with a source that fails on its first frame (a label PNG of the wrong size).
   std::filesystem::create_directories(dir + "/labels");
-  REQUIRE(cv::imwrite(dir + "/labels/1305031453.359684.png", cv::Mat::zeros(240, 320, CV_8U)));
+  REQUIRE(dynref::ImageWrite(dir + "/labels/1305031453.359684.png", cv::Mat::zeros(240, 320, CV_8U)));
   dynref::test::WriteText(dir + "/labels/labels.yaml", "png_kind: semantic\nconfidence: 0.9\nlabels:\n  3: person\n");
   const auto r = RunDynref("detect --source labels:" + dir + "/labels " + kSeq + " --out '" + out + "' --frames 0-1");
   CHECK(r.exit_code == 2);
@@ -161,10 +161,10 @@ std::string TinySequence(const std::string& dir, int width, int height) {
   for (const char* sub : {"rgb", "depth"})
     for (const auto& e : fs::directory_iterator(seq + "/" + sub)) {
       const bool depth = std::string(sub) == "depth";
-      const cv::Mat img = cv::imread(e.path().string(), depth ? cv::IMREAD_UNCHANGED : cv::IMREAD_COLOR);
+      const cv::Mat img = dynref::ImageRead(e.path().string(), depth ? cv::IMREAD_UNCHANGED : cv::IMREAD_COLOR);
       cv::Mat small;
       cv::resize(img, small, cv::Size(width, height), 0, 0, depth ? cv::INTER_NEAREST : cv::INTER_AREA);
-      REQUIRE(cv::imwrite(e.path().string(), small));
+      REQUIRE(dynref::ImageWrite(e.path().string(), small));
     }
   const double s = width / 640.0;
   std::ofstream(seq + "/camera.yaml") << "%YAML:1.0\nCamera.fx: " << 535.4 * s << "\nCamera.fy: " << 539.2 * s
@@ -185,7 +185,7 @@ TEST_CASE("cli: detect --source hog on images smaller than the HOG window: no de
     const std::string png = dir + "/" + name + ".png";
     cv::Mat img(size, CV_8UC3);
     cv::randu(img, 0, 255);
-    REQUIRE(cv::imwrite(png, img));
+    REQUIRE(dynref::ImageWrite(png, img));
     const auto r = RunDynref("detect --source hog --image '" + png + "' --out '" + dir + "/out_" + name + "'");
     INFO(r.output);
     CHECK(r.exit_code == 0);

@@ -2,11 +2,11 @@
 // tests/data/darknet/): persons where a person measured them by hand, masks on them, no person
 // among horses, identical output on repeated runs.
 #include <catch2/catch.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "detect/candidates.h"
 #include "detect/detection_source.h"
 #include "test_support.h"
+#include "io/image_file.h"
 
 using dynref::DetectedInstance;
 using dynref::FrameDetections;
@@ -29,7 +29,7 @@ dynref::DetectionSource& Nanodet() {
 }
 
 cv::Mat Photo(const std::string& name) {
-  cv::Mat im = cv::imread(SourcePath("tests/data/darknet/" + name), cv::IMREAD_COLOR);
+  cv::Mat im = dynref::ImageRead(SourcePath("tests/data/darknet/" + name), cv::IMREAD_COLOR);
   REQUIRE(!im.empty());
   return im;
 }

@@ -6,13 +6,13 @@
 // naming the model file (CLI exit 2), never a crash.
 #include <catch2/catch.hpp>
 #include <cmath>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
 #include "detect/detection_source.h"
 #include "detect/yolact_decode.h"
 #include "test_support.h"
 #include "tiny_layout_onnx.h"
+#include "io/image_file.h"
 
 using namespace dynref;
 using test::LayoutOutput;
@@ -129,7 +129,7 @@ TEST_CASE("onnx layouts: a YOLO export of another layout is an InputError naming
   CHECK_THROWS_WITH(MakeDetectionSource("onnx-yolo:" + dir + "/three.onnx", {}),
                     Catch::Contains(dir + "/three.onnx") && Catch::Contains("expected 1 (detect) or 2 (seg) outputs"));
   // The CLI: exit 2 with the file named, no crash.
-  REQUIRE(cv::imwrite(dir + "/frame.png", img));
+  REQUIRE(dynref::ImageWrite(dir + "/frame.png", img));
   const test::CommandResult r = test::RunDynref("detect --source onnx-yolo:" + test::Quote(dir + "/wrong_size.onnx") +
                                                 " --image " + test::Quote(dir + "/frame.png"));
   CHECK(r.exit_code == 2);

@@ -1,7 +1,6 @@
 // Precomputed sources (files, gt, labels importer), the HOG fallback, and the errors a user
 // meets: unknown source, bad model path, wrong sha256, corrupt PNG, mis-sized mask, bad table.
 #include <catch2/catch.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <fstream>
 #include <sys/stat.h>
 
@@ -9,6 +8,7 @@
 #include "detect/detection_source.h"
 #include "detect/label_png_import.h"
 #include "test_support.h"
+#include "io/image_file.h"
 
 using namespace dynref;
 using dynref::test::ScratchDir;
@@ -114,7 +114,7 @@ TEST_CASE("sources: DynaSLAM-style label PNGs with a YAML table") {
   lab(cv::Rect(5, 6, 10, 12)).setTo(3);    // person
   lab(cv::Rect(40, 20, 8, 8)).setTo(3);    // a second person region
   lab(cv::Rect(20, 25, 6, 4)).setTo(7);    // chair
-  REQUIRE(cv::imwrite(dir + "/100.5.png", lab));
+  REQUIRE(dynref::ImageWrite(dir + "/100.5.png", lab));
   WriteText(dir + "/labels.yaml", "png_kind: semantic\nconfidence: 0.9\nlabels:\n  3: person\n  7: chair\n");
   auto src = MakeDetectionSource("labels:" + dir, {});
   CHECK(src->name() == "labels");
@@ -172,7 +172,7 @@ TEST_CASE("sources: model loading checks path and sha256") {
 
 TEST_CASE("sources: HOG people detector finds the person on person.jpg and none among horses") {
   auto hog = MakeDetectionSource("hog", {});
-  const FrameDetections f = hog->Detect(cv::imread(SourcePath("tests/data/darknet/person.jpg")), "person");
+  const FrameDetections f = hog->Detect(dynref::ImageRead(SourcePath("tests/data/darknet/person.jpg")), "person");
   REQUIRE(f.instances.size() >= 1);
   const auto& d = f.instances[0];
   CHECK(d.class_name == "person");
@@ -183,7 +183,7 @@ TEST_CASE("sources: HOG people detector finds the person on person.jpg and none 
   CHECK(d.y_min < 99);
   CHECK(d.y_max > 372);
   CHECK(d.x_max - d.x_min < 2.5 * (274 - 191));
-  CHECK(hog->Detect(cv::imread(SourcePath("tests/data/darknet/horses.jpg")), "horses").instances.empty());
+  CHECK(hog->Detect(dynref::ImageRead(SourcePath("tests/data/darknet/horses.jpg")), "horses").instances.empty());
 }
 
 TEST_CASE("sources: HOG on images smaller than its 64x128 window gives no detections (issue 37)") {

@@ -6,13 +6,13 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 
 #include "dense/ply_writer.h"
 #include "dynamic/epi/nerf_export.h"
 #include "io/camera.h"
 #include "io/trajectory.h"
 #include "method_e2e.h"
+#include "io/image_file.h"
 
 using namespace dynref;
 using namespace dynref::epi;
@@ -118,8 +118,8 @@ TEST_CASE("epi nerf: an epi run end to end exports keyframe images, dynamic mask
   int masked_frames = 0;
   for (size_t i = 0; i < j["frames"].size(); ++i) {
     const nlohmann::json& f = j["frames"][i];
-    const cv::Mat image = cv::imread(nerf + "/" + f["file_path"].get<std::string>(), cv::IMREAD_COLOR);
-    const cv::Mat mask = cv::imread(nerf + "/" + f["mask_path"].get<std::string>(), cv::IMREAD_UNCHANGED);
+    const cv::Mat image = dynref::ImageRead(nerf + "/" + f["file_path"].get<std::string>(), cv::IMREAD_COLOR);
+    const cv::Mat mask = dynref::ImageRead(nerf + "/" + f["mask_path"].get<std::string>(), cv::IMREAD_UNCHANGED);
     REQUIRE(!image.empty());
     REQUIRE(mask.type() == CV_8U);
     CHECK(mask.size() == image.size());

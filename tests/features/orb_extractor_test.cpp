@@ -1,17 +1,17 @@
 // ORB extractor (ORB-SLAM2 ORBextractor equivalent) on a real TUM frame.
 #include <catch2/catch.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "features/orb_extractor.h"
 #include "features/orb_pattern.h"
 #include "test_support.h"
+#include "io/image_file.h"
 
 using namespace dynref::features;
 
 namespace {
 cv::Mat RealGrey() {
-  const cv::Mat bgr = cv::imread(dynref::test::SourcePath(
+  const cv::Mat bgr = dynref::ImageRead(dynref::test::SourcePath(
       "datasets/real/tum_fr1_desk_9frames/rgb/1305031453.359684.png"), cv::IMREAD_COLOR);
   REQUIRE(!bgr.empty());
   cv::Mat grey;

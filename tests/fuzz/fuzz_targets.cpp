@@ -3,7 +3,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
 #include "detect/label_png_import.h"
@@ -15,6 +14,7 @@
 #include "pipeline/method_config.h"
 #include "trace/trace_reader.h"
 #include "trace/trace_writer.h"
+#include "io/image_file.h"
 
 namespace dynref::fuzz {
 namespace fs = std::filesystem;
@@ -56,8 +56,8 @@ std::vector<Seed> SetupSequence(const std::string& work) {
   std::string rgb = "# color images\n", depth = "# depth maps\n", gt = "# ground truth\n";
   for (int i = 0; i < 3; ++i) {
     const std::string stamp = "1305031102." + std::to_string(100 + 33 * i);
-    cv::imwrite(work + "/rgb/" + stamp + ".png", cv::Mat(kH, kW, CV_8UC3, cv::Scalar(10 * i, 50, 90)));
-    cv::imwrite(work + "/depth/" + stamp + ".png", cv::Mat(kH, kW, CV_16U, cv::Scalar(5000 + i)));
+    dynref::ImageWrite(work + "/rgb/" + stamp + ".png", cv::Mat(kH, kW, CV_8UC3, cv::Scalar(10 * i, 50, 90)));
+    dynref::ImageWrite(work + "/depth/" + stamp + ".png", cv::Mat(kH, kW, CV_16U, cv::Scalar(5000 + i)));
     rgb += stamp + " rgb/" + stamp + ".png\n";
     depth += stamp + " depth/" + stamp + ".png\n";
     gt += stamp + " 0." + std::to_string(i) + " 0 1 0 0 0 1\n";
@@ -120,7 +120,7 @@ std::vector<Seed> SetupLabels(const std::string& work) {
   png(cv::Rect(20, 5, 8, 30)).setTo(2);
   png(cv::Rect(40, 30, 3, 3)).setTo(7);
   WriteBytesTo(work + "/labels.yaml", yaml);
-  cv::imwrite(work + "/1305031102.100.png", png);
+  dynref::ImageWrite(work + "/1305031102.100.png", png);
   return {{"labels.yaml", yaml},
           {"labels.yaml", "png_kind: semantic\nlabels:\n  1: person\n  2: chair\n  7: dog\n"},
           {"1305031102.100.png", Slurp(work + "/1305031102.100.png")}};

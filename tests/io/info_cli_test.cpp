@@ -4,11 +4,11 @@
 
 #include <cstdio>
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 #include <sys/stat.h>
 
 #include "io/camera.h"
 #include "test_support.h"
+#include "io/image_file.h"
 
 using dynref::test::ExpectBadInput;
 using dynref::test::Quote;
@@ -30,8 +30,8 @@ void MakeSequence(const std::string& dir, int n, int depth_type, cv::Size depth_
   std::string rgb_txt = "# color images\n", depth_txt = "# depth maps\n";
   for (int i = 0; i < n; ++i) {
     const std::string stamp = std::to_string(10 + i) + ".000000";
-    cv::imwrite(dir + "/rgb/" + stamp + ".png", cv::Mat(6, 8, CV_8UC3, cv::Scalar(10, 20, 30)));
-    cv::imwrite(dir + "/depth/" + stamp + ".png", cv::Mat(depth_size, depth_type, cv::Scalar(5000)));
+    dynref::ImageWrite(dir + "/rgb/" + stamp + ".png", cv::Mat(6, 8, CV_8UC3, cv::Scalar(10, 20, 30)));
+    dynref::ImageWrite(dir + "/depth/" + stamp + ".png", cv::Mat(depth_size, depth_type, cv::Scalar(5000)));
     rgb_txt += stamp + " rgb/" + stamp + ".png\n";
     depth_txt += stamp + " depth/" + stamp + ".png\n";
   }

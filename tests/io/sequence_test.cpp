@@ -2,11 +2,11 @@
 #include <catch2/catch.hpp>
 
 #include <fstream>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
 #include "io/sequence.h"
 #include "test_support.h"
+#include "io/image_file.h"
 
 using namespace dynref;
 
@@ -31,7 +31,7 @@ TEST_CASE("sequence: real TUM fr1_desk 9 frames") {
     CHECK(std::abs(f.rgb_stamp - f.depth_stamp) < 0.02);
     if (i > 0) CHECK(f.rgb_stamp > seq.frames[i - 1].rgb_stamp);
   }
-  const cv::Mat raw = cv::imread(seq.frames[0].depth_path, cv::IMREAD_UNCHANGED);
+  const cv::Mat raw = dynref::ImageRead(seq.frames[0].depth_path, cv::IMREAD_UNCHANGED);
   CHECK(raw.type() == CV_16UC1);
   const cv::Mat rgb = LoadRgb(seq, seq.frames[4]);
   CHECK(rgb.type() == CV_8UC3);

@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
 #include "core/se3.h"
@@ -18,6 +17,7 @@
 #include "method/registry.h"
 #include "trace/trace_reader.h"
 #include "test_support.h"
+#include "io/image_file.h"
 
 using namespace dynref;
 
@@ -311,7 +311,7 @@ TEST_CASE("run: zero depth in every frame is never initialised, one zero-depth f
   const std::vector<std::string> depth = ListedImages(seq + "/depth.txt");
   REQUIRE(depth.size() == 9);
   const cv::Mat zero(480, 640, CV_16UC1, cv::Scalar(0));
-  REQUIRE(cv::imwrite(seq + "/" + depth[4], zero));
+  REQUIRE(dynref::ImageWrite(seq + "/" + depth[4], zero));
   RunOptions o = Options(test::ScratchDir("run_zero_depth") + "/one");
   o.sequence = seq;
   o.camera = "tum_fr1";
@@ -322,7 +322,7 @@ TEST_CASE("run: zero depth in every frame is never initialised, one zero-depth f
   CHECK(one.tracked + one.lost == 9);  // every frame has a pose or a line in lost.txt
   CHECK(ReadJson(o.out_dir + "/run.json")["frames_zero_depth"] == 1);
 
-  for (const std::string& d : depth) REQUIRE(cv::imwrite(seq + "/" + d, zero));
+  for (const std::string& d : depth) REQUIRE(dynref::ImageWrite(seq + "/" + d, zero));
   o.out_dir = test::ScratchDir("run_zero_depth") + "/all";
   const RunResult all = RunSequence(o);
   CHECK(all.exit_code == 2);
@@ -343,7 +343,7 @@ TEST_CASE("run: a detection mask of the wrong size mid-run ends the run cleanly,
     if (entry.path().extension() == ".png") pngs.push_back(entry.path().string());
   std::sort(pngs.begin(), pngs.end());
   REQUIRE(pngs.size() == 4);
-  REQUIRE(cv::imwrite(pngs[2], cv::Mat(240, 320, CV_16UC1, cv::Scalar(0))));
+  REQUIRE(dynref::ImageWrite(pngs[2], cv::Mat(240, 320, CV_16UC1, cv::Scalar(0))));
   const std::string out = dir + "/run";
   const auto r = test::RunDynref("run --method sgdo --no-progress --sequence " + test::Quote(dir + "/seq") +
                                  " --detections " + test::Quote(det) + " --out " + test::Quote(out));
@@ -400,8 +400,8 @@ TEST_CASE("run: a camera too small for ORB extraction is named before any work (
   std::string rgb_txt = "# color images\n", depth_txt = "# depth images\n";
   for (int i = 0; i < 3; ++i) {
     const std::string t = std::to_string(100 + i) + ".000000";
-    REQUIRE(cv::imwrite(seq + "/rgb/" + t + ".png", cv::Mat(1, 1, CV_8UC3, cv::Scalar(50, 60, 70))));
-    REQUIRE(cv::imwrite(seq + "/depth/" + t + ".png", cv::Mat(1, 1, CV_16U, cv::Scalar(5000))));
+    REQUIRE(dynref::ImageWrite(seq + "/rgb/" + t + ".png", cv::Mat(1, 1, CV_8UC3, cv::Scalar(50, 60, 70))));
+    REQUIRE(dynref::ImageWrite(seq + "/depth/" + t + ".png", cv::Mat(1, 1, CV_16U, cv::Scalar(5000))));
     rgb_txt += t + " rgb/" + t + ".png\n";
     depth_txt += t + " depth/" + t + ".png\n";
   }

@@ -1,6 +1,5 @@
 // place: vocabulary files (ORBvoc.txt text format and dynref's), Transform, scores.
 #include <catch2/catch.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
@@ -8,6 +7,7 @@
 #include "features/orb_extractor.h"
 #include "place/vocabulary.h"
 #include "test_support.h"
+#include "io/image_file.h"
 
 using namespace dynref;
 using namespace dynref::place;
@@ -171,7 +171,7 @@ TEST_CASE("the embedded default vocabulary loads and scores a real frame") {
   // Same bytes as the shipped file.
   CHECK(v.Serialize() == test::ReadFileBytes(test::SourcePath("models/vocab/dynref_orb_k10_l4.txt")));
 
-  const cv::Mat bgr = cv::imread(test::SourcePath("datasets/real/tum_fr1_desk_9frames/rgb/1305031453.359684.png"));
+  const cv::Mat bgr = dynref::ImageRead(test::SourcePath("datasets/real/tum_fr1_desk_9frames/rgb/1305031453.359684.png"));
   REQUIRE(!bgr.empty());
   cv::Mat grey;
   cv::cvtColor(bgr, grey, cv::COLOR_RGB2GRAY);

@@ -4,7 +4,6 @@
 // a plane region and an instance-mask update.
 #pragma once
 #include <cstdio>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
@@ -12,6 +11,7 @@
 #include "io/camera.h"
 #include "io/mask_format.h"
 #include "trace/trace_writer.h"
+#include "io/image_file.h"
 
 namespace dynref::test {
 
@@ -40,9 +40,9 @@ inline SyntheticRun MakeSyntheticRun(const std::string& dir) {
     const int px = 200 + 12 * f;
     cv::rectangle(bgr, cv::Rect(px, 120, 120, 280), cv::Scalar(40, 40, 160), cv::FILLED);
     cv::rectangle(bgr, cv::Rect(420, 300, 100, 120), cv::Scalar(30, 110, 60), cv::FILLED);
-    cv::imwrite(seq + "/rgb/" + stamps[f] + ".png", bgr);
+    dynref::ImageWrite(seq + "/rgb/" + stamps[f] + ".png", bgr);
     cv::Mat depth(480, 640, CV_16U, cv::Scalar(5000));
-    cv::imwrite(seq + "/depth/" + stamps[f] + ".png", depth);
+    dynref::ImageWrite(seq + "/depth/" + stamps[f] + ".png", depth);
     rgb_txt += std::string(stamps[f]) + " rgb/" + stamps[f] + ".png\n";
     depth_txt += std::string(stamps[f]) + " depth/" + stamps[f] + ".png\n";
     // Ground truth: instance 1 (person) moves, instance 2 (chair) is static.

@@ -9,7 +9,6 @@
 #include <fstream>
 #include <opencv2/imgproc.hpp>
 #include <sstream>
-#include <opencv2/imgcodecs.hpp>
 
 #include "core/error.h"
 #include "eval/trajectory_eval.h"
@@ -23,6 +22,7 @@
 #include "structure/structure_tracker.h"
 #include "synth/synth.h"
 #include "test_support.h"
+#include "io/image_file.h"
 
 using namespace dynref;
 
@@ -50,8 +50,8 @@ std::string Synth(const std::string& name, const std::string& preset, int frames
 Frame LoadFrame(const Sequence& seq, size_t k, const structure::StructureTracker& st) {
   Frame f;
   f.index = static_cast<int>(k);
-  f.rgb = cv::imread(seq.frames[k].rgb_path, cv::IMREAD_COLOR);
-  const cv::Mat d16 = cv::imread(seq.frames[k].depth_path, cv::IMREAD_UNCHANGED);
+  f.rgb = dynref::ImageRead(seq.frames[k].rgb_path, cv::IMREAD_COLOR);
+  const cv::Mat d16 = dynref::ImageRead(seq.frames[k].depth_path, cv::IMREAD_UNCHANGED);
   d16.convertTo(f.depth_m, CV_32F, 1.0 / seq.camera.depth_factor);
   cv::cvtColor(f.rgb, f.grey, cv::COLOR_BGR2GRAY);
   f.pyramid = ScalePyramid::Make(8, 1.2);
@@ -212,8 +212,8 @@ TEST_CASE("structure: zero-length lines and zero normals are refused by name") {
 TEST_CASE("structure: mgd-nd survives a frame whose depth is all zero and reruns byte-identically", "[cli]") {
   const std::string seq_dir = Synth("zero_depth", "static_xyz", 20);
   const Sequence seq = OpenSequence(seq_dir, SequenceOptions{});
-  const cv::Mat d = cv::imread(seq.frames[10].depth_path, cv::IMREAD_UNCHANGED);
-  cv::imwrite(seq.frames[10].depth_path, cv::Mat::zeros(d.size(), d.type()));
+  const cv::Mat d = dynref::ImageRead(seq.frames[10].depth_path, cv::IMREAD_UNCHANGED);
+  dynref::ImageWrite(seq.frames[10].depth_path, cv::Mat::zeros(d.size(), d.type()));
   std::string trajectories[2], dirs[2];
   for (int rep = 0; rep < 2; ++rep) {
     RunOptions ro;

@@ -4,7 +4,6 @@
 #include <catch2/catch.hpp>
 
 #include <opencv2/features2d.hpp>
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "io/mask_format.h"
@@ -13,6 +12,7 @@
 #include "synth/synth.h"
 #include "synth/world.h"
 #include "test_support.h"
+#include "io/image_file.h"
 
 namespace {
 
@@ -106,8 +106,8 @@ TEST_CASE("synth: static pixels re-project between frames with the GT poses") {
   cv::Mat g0, g1;
   cv::cvtColor(LoadRgb(seq, seq.frames[0]), g0, cv::COLOR_BGR2GRAY);
   cv::cvtColor(LoadRgb(seq, seq.frames[3]), g1, cv::COLOR_BGR2GRAY);
-  const cv::Mat m0 = cv::imread(seq.root + "/gt/motion/" + seq.frames[0].rgb_stamp_text + ".png", cv::IMREAD_GRAYSCALE);
-  const cv::Mat m1 = cv::imread(seq.root + "/gt/motion/" + seq.frames[3].rgb_stamp_text + ".png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat m0 = dynref::ImageRead(seq.root + "/gt/motion/" + seq.frames[0].rgb_stamp_text + ".png", cv::IMREAD_GRAYSCALE);
+  const cv::Mat m1 = dynref::ImageRead(seq.root + "/gt/motion/" + seq.frames[3].rgb_stamp_text + ".png", cv::IMREAD_GRAYSCALE);
   REQUIRE(cv::countNonZero(m0) > 1000);  // people are moving in these frames
   const SE3 T_10 = seq.groundtruth[3].T_wc.inverse() * seq.groundtruth[0].T_wc;
   int n = 0, ok = 0;

@@ -2,7 +2,6 @@
 #include <catch2/catch.hpp>
 
 #include <dirent.h>
-#include <opencv2/imgcodecs.hpp>
 #include <sys/stat.h>
 
 #include <fstream>
@@ -17,6 +16,7 @@
 #include "synth/synth.h"
 #include "synth/world.h"
 #include "test_support.h"
+#include "io/image_file.h"
 
 namespace {
 
@@ -163,7 +163,7 @@ TEST_CASE("synth: CLI writes a sequence that dynref info reads and bad arguments
   const auto m = dynref::test::RunDynref("synth-montage '" + dir + "/wx' --frames-per-row 2 --out '" + dir + "/m.png'");
   INFO(m.output);
   CHECK(m.exit_code == 0);
-  CHECK(!cv::imread(dir + "/m.png").empty());
+  CHECK(!dynref::ImageRead(dir + "/m.png").empty());
 }
 
 namespace {

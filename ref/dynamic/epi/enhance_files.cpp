@@ -1,6 +1,5 @@
 #include "dynamic/epi/enhance_files.h"
 
-#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <sys/stat.h>
 
@@ -12,6 +11,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "io/sequence.h"
+#include "io/image_file.h"
 
 namespace fs = std::filesystem;
 
@@ -27,7 +27,7 @@ bool IsEnhanceOutput(const std::string& dir) {
 
 void WritePng(const std::string& path, const cv::Mat& img) {
   std::vector<uchar> buf;
-  if (!cv::imencode(".png", img, buf)) throw InputError(path, "cannot encode PNG");
+  if (!dynref::ImageEncode(".png", img, buf)) throw InputError(path, "cannot encode PNG");
   AtomicWriteFile(path, std::string(buf.begin(), buf.end()));
 }
 
@@ -57,7 +57,7 @@ EnhanceFilesResult EnhanceFiles(const std::string& input, const std::string& out
     if (seq) {
       bgr = LoadRgb(*seq, seq->frames[k]);
     } else {
-      bgr = cv::imread(items[k].second, cv::IMREAD_COLOR);
+      bgr = dynref::ImageRead(items[k].second, cv::IMREAD_COLOR);
       if (bgr.empty()) throw InputError(items[k].second, "not a readable image");
     }
     cv::Mat grey;

@@ -7,7 +7,6 @@
 // 0 = dynamic), sparse_points.ply and transforms.json (last, atomically) with L_geo and the gate
 // counts under "dynref".
 #include <filesystem>
-#include <opencv2/imgcodecs.hpp>
 #include <utility>
 
 #include "core/atomic_file.h"
@@ -15,6 +14,7 @@
 #include "dense/ply_writer.h"
 #include "dynamic/epi/stages.h"
 #include "map/map.h"
+#include "io/image_file.h"
 
 namespace dynref::epi {
 
@@ -91,10 +91,10 @@ void NerfModule::Finish(const Map& map, RunEnd& end) {
       trace_->ProbabilityUpdate(name(), trace::EntityKind::kKeyFrame, "kf" + std::to_string(id), in, 0.0, 0.0);
     }
     const std::string image = "images/" + k.stamp_text + ".png", mask = "masks/" + k.stamp_text + ".png";
-    if (!cv::imwrite(dir + "/" + image, k.rgb)) throw std::runtime_error("cannot write " + dir + "/" + image);
+    if (!dynref::ImageWrite(dir + "/" + image, k.rgb)) throw std::runtime_error("cannot write " + dir + "/" + image);
     cv::Mat keep(k.rgb.size(), CV_8U, cv::Scalar(255));
     if (!k.dynamic_mask.empty()) keep.setTo(0, k.dynamic_mask);
-    if (!cv::imwrite(dir + "/" + mask, keep)) throw std::runtime_error("cannot write " + dir + "/" + mask);
+    if (!dynref::ImageWrite(dir + "/" + mask, keep)) throw std::runtime_error("cannot write " + dir + "/" + mask);
     frames.push_back({image, mask, T_cw, static_cast<int>(id)});
     if (prev != nullptr && !k.descriptors.empty() && !prev->descriptors.empty()) {
       for (const features::DescriptorMatch& m : features::MatchMnn2(k.descriptors, prev->descriptors, match_)) {
