@@ -17,6 +17,7 @@
 #include "core/rng.h"
 #include "core/version.h"
 #include "eval/trajectory_eval.h"
+#include "io/camera.h"
 #include "io/mask_format.h"
 #include "io/sequence.h"
 #include "io/trajectory.h"
@@ -203,6 +204,12 @@ void CheckSynthesisedAs(const std::string& dir, const SynthSpec& spec, const std
   for (const auto& [key, value] : want)
     if (kv[key] != value)
       throw InputError(path, key + " is '" + kv[key] + "', this table needs '" + value + "'");
+  // Tables synthesise full-size images (no --width); a `width:` line (written only for --width)
+  // must then be the camera's own width.
+  const std::string full_width = std::to_string(CameraPreset("synthetic").width);
+  if (kv.count("width") && kv["width"] != full_width)
+    throw InputError(path, "width is '" + kv["width"] + "', this table needs '" + full_width +
+                               "' (a sequence made without --width)");
   if (!fs::is_directory(dir + "/detections/" + spec.detections))
     throw InputError(dir, "has no detections/" + spec.detections + " (dynref synth --detections " + spec.detections + ")");
 }

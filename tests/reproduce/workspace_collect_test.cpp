@@ -1,0 +1,60 @@
+// `reproduce --collect` (Workspace in WorkMode::kCollect) reads sequences made by `dynref synth`:
+// their synth.yaml must state the table's arguments, including the full image size (issue 37:
+// `synth --width` writes a `width:` line, and a 160 px smoke sequence must not pass for a table's).
+#include <catch2/catch.hpp>
+#include <filesystem>
+#include <string>
+
+#include "core/error.h"
+#include "reproduce/workspace.h"
+#include "test_support.h"
+
+using namespace dynref;
+
+namespace {
+
+// <work>/seq/walking_xyz as `dynref synth --preset walking_xyz --frames 30 --seed 1 --detections
+// ideal` writes it (the files --collect reads), plus `extra` lines in synth.yaml.
+std::string CollectSynthFolder(const std::string& work, const std::string& extra) {
+  const std::string seq = work + "/seq/walking_xyz";
+  std::filesystem::create_directories(seq + "/detections/ideal");
+  test::WriteText(seq + "/synth.yaml",
+                  "# dynref synth parameters\ngenerator: dynref test\npreset: walking_xyz\nframes: 30\nseed: 1\n"
+                  "blur: false\nlow_light: false\ndetections: ideal\n" + extra);
+  return seq;
+}
+
+reproduce::SynthSpec CollectSpec() {
+  reproduce::SynthSpec spec;
+  spec.frames = 30;
+  spec.seed = 1;
+  spec.detections = "ideal";
+  return spec;
+}
+
+}  // namespace
+
+TEST_CASE("reproduce --collect refuses a sequence synthesised with --width below full size, naming synth.yaml") {
+  const std::string dir = test::ScratchDir("reproduce_collect_width");
+  SECTION("no width line (full size): accepted") {
+    const std::string seq = CollectSynthFolder(dir, "");
+    reproduce::Workspace ws(dir, CollectSpec(), false, reproduce::WorkMode::kCollect);
+    CHECK(ws.EnsureSequence("walking_xyz") == seq);
+  }
+  SECTION("width: 640 (the camera's own width): accepted") {
+    const std::string seq = CollectSynthFolder(dir, "width: 640\nheight: 480\n");
+    reproduce::Workspace ws(dir, CollectSpec(), false, reproduce::WorkMode::kCollect);
+    CHECK(ws.EnsureSequence("walking_xyz") == seq);
+  }
+  SECTION("width: 160: InputError naming synth.yaml and both widths") {
+    const std::string seq = CollectSynthFolder(dir, "width: 160\nheight: 120\n");
+    reproduce::Workspace ws(dir, CollectSpec(), false, reproduce::WorkMode::kCollect);
+    try {
+      ws.EnsureSequence("walking_xyz");
+      FAIL("a 160 px sequence was collected");
+    } catch (const InputError& e) {
+      CHECK(e.file() == seq + "/synth.yaml");
+      CHECK_THAT(e.what(), Catch::Contains("width is '160', this table needs '640'"));
+    }
+  }
+}
