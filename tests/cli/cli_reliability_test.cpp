@@ -123,7 +123,7 @@ TEST_CASE("cli: enhance on an image too small for the two-scale step is a clear 
   CHECK(RunDynref("enhance " + Quote(d + "/2x2.png") + " --out " + Quote(d + "/out2x2")).exit_code == 0);
 }
 
-TEST_CASE("cli: cmake --install into a prefix, moved, runs --method sgdo from there (issue 37) end to end") {
+TEST_CASE("cli: cmake --install into a prefix, moved, runs --method sgdo from there (issue 37) end to end", "[cli]") {
   const std::string d = ScratchDir("cli_install");
   const std::string prefix = d + "/prefix", moved = d + "/elsewhere/moved";
   const auto install = RunShell(Quote(DYNREF_CMAKE_COMMAND) + " --install " + Quote(DYNREF_BINARY_DIR) + " --prefix " +
