@@ -3,9 +3,10 @@
 # the unit tests and goldens under it (issue 20). Called by .ci/run after scripts/test.sh
 # (the build's cost was cut two ways, each measured and explained below: UBSan's two costliest
 # checks off, test files at -O0).
-# Only the unit tests and the goldens are registered (DYNREF_TEST_SPEC="~[cli],[golden]"): the
-# tests that run build/dynref end to end carry [cli] (scripts/cli-test-tags.py keeps that true) and
-# exercise the code paths the unit tests and goldens already cover; they run in the normal build.
+# Only the unit tests and the goldens are registered (DYNREF_TEST_SPEC="~[cli]~[e2e]~[slow],[golden]"):
+# the tests that run build/dynref carry [cli] (scripts/cli-test-tags.py keeps that true), whole-method
+# runs inside a test process [e2e], long ones [slow]; they exercise the code paths the unit tests
+# and goldens already cover and run in the normal build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
@@ -27,13 +28,10 @@ gen=()
 # DYNREF_TESTS_NEED_EXE=OFF and --target dynref_tests: no registered test runs build/dynref, so the
 # executable (the cli room and its link) is not built here.
 cmake -S . -B build-asan "${gen[@]}" -DCMAKE_BUILD_TYPE=None -DDYNREF_TEST_COMPILE_OPTIONS=-O0 \
-  -DDYNREF_TEST_SPEC="~[cli],[golden]" -DCMAKE_UNITY_BUILD=ON -DDYNREF_TESTS_NEED_EXE=OFF \
+  -DDYNREF_TEST_SPEC="~[cli]~[e2e]~[slow],[golden]" -DCMAKE_UNITY_BUILD=ON -DDYNREF_TESTS_NEED_EXE=OFF \
   -DCMAKE_CXX_FLAGS="$opt $SAN -fno-omit-frame-pointer -fno-sanitize-recover=undefined" \
   -DCMAKE_EXE_LINKER_FLAGS="$SAN" > build-asan.configure.log 2>&1 || { cat build-asan.configure.log; exit 1; }
 cmake --build build-asan -j "$(nproc)" --target dynref_tests
 cd build-asan
 # -LE cli: the add_test entries that run dynref (the config fuzzer smoke) carry the CTest label cli.
-# -E: the in-process end-to-end runs (a whole method on a synthetic sequence inside the test
-# process; not [cli], but not unit tests either); DYNREF_ASAN_EXCLUDE= (empty) runs them too.
-exclude="${DYNREF_ASAN_EXCLUDE-end to end|two methods in one process|killed run|bench script}"
-ctest --output-on-failure -j "$(nproc)" -LE cli ${exclude:+-E "$exclude"}
+ctest --output-on-failure -j "$(nproc)" -LE cli

@@ -174,7 +174,7 @@ TEST_CASE("blur: k-d tree probability of a planted cluster, hand-computed") {
   for (size_t i = 0; i < pts.size(); ++i) CHECK(q[i].dynamic == bool(mask[i]));
 }
 
-TEST_CASE("blur end to end: blurred walking sequence, people rejected, ATE far below orb's") {
+TEST_CASE("blur end to end: blurred walking sequence, people rejected, ATE far below orb's", "[e2e]") {
   const std::string dir = test::ScratchDir("blur_e2e");
   const test::E2eSequence seq = test::MakeE2eSequence(dir, 60, 3, "sparseinst-like", true);
   const double orb = test::RunE2eAte(seq, "orb", dir + "/orb");

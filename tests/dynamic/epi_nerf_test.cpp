@@ -99,7 +99,7 @@ TEST_CASE("epi nerf: colour sampling is bilinear RGB in [0, 1] and refuses pixel
   CHECK(!SampleRgb(bgr, -0.1, 0, &c));
 }
 
-TEST_CASE("epi nerf: an epi run end to end exports keyframe images, dynamic masks, points and transforms.json") {
+TEST_CASE("epi nerf: an epi run end to end exports keyframe images, dynamic masks, points and transforms.json", "[e2e]") {
   const std::string dir = test::ScratchDir("epi_nerf_e2e");
   synth::SynthOptions so;
   so.preset = "walking_xyz", so.frames = 40, so.seed = 1, so.detections = "yolo-like";

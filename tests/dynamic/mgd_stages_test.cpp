@@ -75,7 +75,7 @@ TEST_CASE("mgd P_pro cache follows replaced and culled map points") {
   CHECK(state->pro.empty());
 }
 
-TEST_CASE("mgd end to end: people rejected, ATE far below orb's on synthetic walking_xyz") {
+TEST_CASE("mgd end to end: people rejected, ATE far below orb's on synthetic walking_xyz", "[e2e]") {
   const std::string dir = test::ScratchDir("mgd_e2e");
   const test::E2eSequence seq = test::MakeE2eSequence(dir, 60, 3, "yolo-like", false);
   const double orb = test::RunE2eAte(seq, "orb", dir + "/orb");

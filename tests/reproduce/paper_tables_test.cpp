@@ -35,7 +35,7 @@ TEST_CASE("sgdo reproduce: bad arguments exit 2 without running anything", "[cli
   CHECK(!test::FileExists(dir + "/t.md"));
 }
 
-TEST_CASE("semantic reproduce: semantic-filesizes end to end on 30 frames, fewer ghosts than without removal", "[cli]") {
+TEST_CASE("semantic reproduce: semantic-filesizes end to end on 30 frames, fewer ghosts than without removal", "[cli][slow]") {
   const std::string dir = test::ScratchDir("semantic_reproduce");
   const test::CommandResult r = test::RunDynref("reproduce semantic-filesizes --frames 30 --seeds 1 --sequences walking_xyz --work " +
                                                 dir + "/w --out " + dir + "/r/semantic-filesizes.md");
@@ -53,7 +53,7 @@ TEST_CASE("semantic reproduce: semantic-filesizes end to end on 30 frames, fewer
   test::ExpectBadInput("reproduce semantic-filesizes --frames 10 --work " + dir + "/x --out " + dir + "/x.md", "--frames");
 }
 
-TEST_CASE("blur reproduce: blur-table3 end to end on 30 frames, two seeds, paper values beside ours", "[cli]") {
+TEST_CASE("blur reproduce: blur-table3 end to end on 30 frames, two seeds, paper values beside ours", "[cli][slow]") {
   const std::string dir = test::ScratchDir("blur_reproduce");
   const test::CommandResult r = test::RunDynref("reproduce blur-table3 --frames 30 --seeds 1,2 --sequences sitting_static "
                                                 "--sweep none --work " + dir + "/w --out " + dir + "/t3.md");
@@ -72,7 +72,7 @@ TEST_CASE("blur reproduce: blur-table3 end to end on 30 frames, two seeds, paper
   CHECK(md.find("n/a") == std::string::npos);                      // every variant has an ATE
 }
 
-TEST_CASE("epi reproduce: epi-table2 end to end on 10 frames, paper rows beside ours", "[cli]") {
+TEST_CASE("epi reproduce: epi-table2 end to end on 10 frames, paper rows beside ours", "[cli][slow]") {
   const std::string dir = test::ScratchDir("epi_reproduce");
   const test::CommandResult bad = test::RunDynref("reproduce epi-table2 --frames 10 --gap 10 --work " + dir + "/w --out " + dir + "/t2.md");
   CHECK(bad.exit_code == 2);
@@ -96,7 +96,7 @@ TEST_CASE("epi reproduce: epi-table2 end to end on 10 frames, paper rows beside 
   CHECK(md.find("| Low-texture environments | ORB + BF | 0 | 0.00 | 0.719 |") != std::string::npos);
 }
 
-TEST_CASE("epi reproduce: epi-table3 end to end on 30 frames (ATE, ablation, mask vote, time), bad arguments first", "[cli]") {
+TEST_CASE("epi reproduce: epi-table3 end to end on 30 frames (ATE, ablation, mask vote, time), bad arguments first", "[cli][slow]") {
   const std::string dir = test::ScratchDir("epi_reproduce_t3");
   const test::CommandResult bad = test::RunDynref("reproduce epi-table3 --frames 30 --sequences walking_static "
                                                   "--ablation-sequences crowd --work " + dir + "/w --out " + dir + "/t3.md");

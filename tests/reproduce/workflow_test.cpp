@@ -28,7 +28,7 @@ std::string SnakeConfig(const std::string& work, const std::string& reports) {
 
 }  // namespace
 
-TEST_CASE("workflow: snakemake -j 2 and dynref reproduce write byte-identical reports", "[cli]") {
+TEST_CASE("workflow: snakemake -j 2 and dynref reproduce write byte-identical reports", "[cli][slow]") {
   const std::string snake = Snakemake();
   const std::string dir = test::ScratchDir("workflow_matrix");
   const test::CommandResult a = test::RunDynref(std::string("reproduce sgdo-table6") + kMatrix + " --sensitivity walking_xyz --work " +

@@ -291,7 +291,7 @@ TEST_CASE("structure: frame-to-frame line matching (shared map line, LBD + angle
   CHECK(c[0].source == 0);
 }
 
-TEST_CASE("structure: end to end in the plain room orb never starts and mgd-nd tracks every frame within 1 cm (issue 13)") {
+TEST_CASE("structure: end to end in the plain room orb never starts and mgd-nd tracks every frame within 1 cm (issue 13)", "[e2e]") {
   // static_lowtexture: about 240 ORB keypoints with depth, so ORB-SLAM2's start rule (> 500)
   // never holds; mgd-nd starts on > 50 (configs/mgd_nd.yaml) and tracks on points, lines and
   // planes. 90 frames of seeds 1 and 3 (seed 3 has the fewest keypoints with depth).

@@ -70,39 +70,41 @@ void CheckConfigVerifies(const std::string& config) {
 
 }  // namespace
 
-#define DYNREF_VERIFY_CONFIG_TEST(name) \
-  TEST_CASE("trace verify end to end: configs/" #name ".yaml, 30 frames, every record recomputed", "[verify][slow][cli]") { \
+// The method configs run in every CI; their ablation variants (the same stages with some switched
+// off) carry [slow] and run with `scripts/test.sh --all` (CI budget).
+#define DYNREF_VERIFY_CONFIG_TEST(name, tags) \
+  TEST_CASE("trace verify end to end: configs/" #name ".yaml, 30 frames, every record recomputed", "[verify][cli]" tags) { \
     CheckConfigVerifies(#name);                                                                     \
   }
-DYNREF_VERIFY_CONFIG_TEST(blur)
-DYNREF_VERIFY_CONFIG_TEST(blur_nocomp)
-DYNREF_VERIFY_CONFIG_TEST(blur_nodepth)
-DYNREF_VERIFY_CONFIG_TEST(blur_noprob)
-DYNREF_VERIFY_CONFIG_TEST(epi)
-DYNREF_VERIFY_CONFIG_TEST(epi_A)
-DYNREF_VERIFY_CONFIG_TEST(epi_ALL)
-DYNREF_VERIFY_CONFIG_TEST(epi_B)
-DYNREF_VERIFY_CONFIG_TEST(epi_BC)
-DYNREF_VERIFY_CONFIG_TEST(epi_C)
-DYNREF_VERIFY_CONFIG_TEST(mgd)
-DYNREF_VERIFY_CONFIG_TEST(mgd_LS)
-DYNREF_VERIFY_CONFIG_TEST(mgd_mf)
-DYNREF_VERIFY_CONFIG_TEST(mgd_nd)
-DYNREF_VERIFY_CONFIG_TEST(mgd_nodiff)
-DYNREF_VERIFY_CONFIG_TEST(mgd_pro)
-DYNREF_VERIFY_CONFIG_TEST(orb)
-DYNREF_VERIFY_CONFIG_TEST(semantic)
-DYNREF_VERIFY_CONFIG_TEST(semantic_nointeraction)
-DYNREF_VERIFY_CONFIG_TEST(semantic_orbmap)
-DYNREF_VERIFY_CONFIG_TEST(sgdo)
-DYNREF_VERIFY_CONFIG_TEST(sgdo_G)
-DYNREF_VERIFY_CONFIG_TEST(sgdo_O)
-DYNREF_VERIFY_CONFIG_TEST(sgdo_S)
-DYNREF_VERIFY_CONFIG_TEST(sgdo_SG)
-DYNREF_VERIFY_CONFIG_TEST(sgdo_SGD)
-DYNREF_VERIFY_CONFIG_TEST(sgdo_SGO)
-DYNREF_VERIFY_CONFIG_TEST(sgdo_nodense)
-DYNREF_VERIFY_CONFIG_TEST(sgdo_vote)
+DYNREF_VERIFY_CONFIG_TEST(blur, "")
+DYNREF_VERIFY_CONFIG_TEST(blur_nocomp, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(blur_nodepth, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(blur_noprob, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(epi, "")
+DYNREF_VERIFY_CONFIG_TEST(epi_A, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(epi_ALL, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(epi_B, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(epi_BC, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(epi_C, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(mgd, "")
+DYNREF_VERIFY_CONFIG_TEST(mgd_LS, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(mgd_mf, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(mgd_nd, "")
+DYNREF_VERIFY_CONFIG_TEST(mgd_nodiff, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(mgd_pro, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(orb, "")
+DYNREF_VERIFY_CONFIG_TEST(semantic, "")
+DYNREF_VERIFY_CONFIG_TEST(semantic_nointeraction, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(semantic_orbmap, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(sgdo, "")
+DYNREF_VERIFY_CONFIG_TEST(sgdo_G, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(sgdo_O, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(sgdo_S, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(sgdo_SG, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(sgdo_SGD, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(sgdo_SGO, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(sgdo_nodense, "[slow]")
+DYNREF_VERIFY_CONFIG_TEST(sgdo_vote, "[slow]")
 
 TEST_CASE("trace verify: every config in configs/ has its end-to-end test", "[verify]") {
   std::set<std::string> on_disk;

@@ -130,7 +130,7 @@ void CheckSameHistory(const std::vector<Row>& cli, const nlohmann::json& page, i
 
 }  // namespace
 
-TEST_CASE("view end to end: golden mgd_30f mp34's history in Chromium equals dynref trace feature, suppression included", "[view][slow][cli]") {
+TEST_CASE("view end to end: golden mgd_30f mp34's history in Chromium equals dynref trace feature, suppression included", "[view][cli]") {
   const std::string dir = dynref::test::ScratchDir("view_golden_mp34");
   const std::string golden = dynref::test::SourcePath("golden/mgd_30f");
   const auto v = RunDynref("view " + Quote(golden) + " --digits 17 --no-overlays --out " + Quote(dir + "/site"));
