@@ -102,6 +102,95 @@ Camera ResolveSequenceCamera(const std::string& root, const std::string& camera,
   return CameraPreset(preset);
 }
 
+namespace {
+
+// Frames from an associate.py output: "rgb_stamp rgb_file depth_stamp depth_file".
+void OpenSeqFromAssociationFile(const std::string& root, const std::string& association_file, Sequence* seq) {
+  std::string assoc = association_file;
+  if (assoc[0] != '/' && !IsFile(assoc)) assoc = Join(root, assoc);
+  const std::vector<StampedLine> rows = ReadStampedList(assoc, 3, 3);
+  for (const StampedLine& row : rows) {
+    FrameEntry f;
+    f.index = static_cast<int>(seq->frames.size());
+    f.rgb_stamp = row.stamp;
+    f.rgb_stamp_text = row.stamp_text;
+    f.rgb_path = Join(root, row.fields[0]);
+    f.depth_stamp = ParseNumberField(row.fields[1], assoc, row.line, "depth timestamp");
+    if (!std::isfinite(f.depth_stamp))
+      throw InputError(assoc, row.line, "depth timestamp '" + row.fields[1] + "' is not finite");
+    f.depth_path = Join(root, row.fields[2]);
+    f.rgb_list_file = f.depth_list_file = assoc;
+    f.rgb_line = f.depth_line = row.line;
+    seq->frames.push_back(std::move(f));
+  }
+  seq->rgb_count = seq->depth_count = rows.size();
+  seq->association_source = "association file " + assoc;
+}
+
+// Frames from rgb.txt and depth.txt (associate.py rgb.txt depth.txt: first = rgb, second =
+// depth, offset 0).
+void OpenSeqFromTumLists(const std::string& root, double max_difference_s, Sequence* seq) {
+  const std::string rgb_txt = root + "/rgb.txt", depth_txt = root + "/depth.txt";
+  const std::vector<StampedLine> rgb = ReadStampedList(rgb_txt, 1, 1);
+  const std::vector<StampedLine> depth = ReadStampedList(depth_txt, 1, 1);
+  seq->rgb_count = rgb.size();
+  seq->depth_count = depth.size();
+  std::vector<double> rs, ds;
+  for (const auto& r : rgb) rs.push_back(r.stamp);
+  for (const auto& d : depth) ds.push_back(d.stamp);
+  for (const StampMatch& m : AssociateTum(rs, ds, max_difference_s)) {
+    FrameEntry f;
+    f.index = static_cast<int>(seq->frames.size());
+    f.rgb_stamp = rgb[m.first].stamp;
+    f.rgb_stamp_text = rgb[m.first].stamp_text;
+    f.rgb_path = Join(root, rgb[m.first].fields[0]);
+    f.depth_stamp = depth[m.second].stamp;
+    f.depth_path = Join(root, depth[m.second].fields[0]);
+    f.rgb_list_file = rgb_txt;
+    f.rgb_line = rgb[m.first].line;
+    f.depth_list_file = depth_txt;
+    f.depth_line = depth[m.second].line;
+    seq->frames.push_back(std::move(f));
+  }
+  seq->association_source = "associate.py greedy one-to-one, max_difference " +
+                            FormatDouble17(max_difference_s) + " s, offset 0";
+  if (seq->frames.empty())
+    throw InputError(rgb_txt, "zero associated RGB/depth pairs with " + depth_txt +
+                                  " within " + FormatDouble17(max_difference_s) + " s");
+}
+
+// Sizes of the first pair (decoding every frame here would be slow; LoadRgb/LoadDepthMeters
+// check each later frame against the camera size).
+void OpenSeqCheckFirstPair(const Sequence& seq) {
+  const FrameEntry& f = seq.frames.front();
+  const cv::Mat rgb = dynref::ImageRead(f.rgb_path, cv::IMREAD_UNCHANGED);
+  const cv::Mat depth = dynref::ImageRead(f.depth_path, cv::IMREAD_UNCHANGED);
+  if (rgb.empty())
+    throw InputError(f.rgb_list_file, f.rgb_line, "cannot decode RGB image " + f.rgb_path);
+  if (depth.empty())
+    throw InputError(f.depth_list_file, f.depth_line,
+                     "cannot decode depth image " + f.depth_path);
+  if (depth.depth() != CV_16U || depth.channels() != 1)
+    throw InputError(f.depth_list_file, f.depth_line,
+                     "depth image " + f.depth_path + " is not a 1-channel 16-bit PNG (" +
+                         std::to_string(8 * static_cast<int>(depth.elemSize1())) + "-bit, " +
+                         std::to_string(depth.channels()) + " channel(s))");
+  if (rgb.size() != depth.size())
+    throw InputError(f.depth_list_file, f.depth_line,
+                     "image size mismatch: RGB " + f.rgb_path + " is " +
+                         std::to_string(rgb.cols) + "x" + std::to_string(rgb.rows) +
+                         ", depth " + f.depth_path + " is " + std::to_string(depth.cols) +
+                         "x" + std::to_string(depth.rows));
+  if (rgb.cols != seq.camera.width || rgb.rows != seq.camera.height)
+    throw InputError(f.rgb_list_file, f.rgb_line,
+                     "RGB image " + f.rgb_path + " is " + std::to_string(rgb.cols) + "x" +
+                         std::to_string(rgb.rows) + ", camera (" + seq.camera_source + ") is " +
+                         std::to_string(seq.camera.width) + "x" +
+                         std::to_string(seq.camera.height));
+}
+
+}  // namespace
+
 Sequence OpenSequence(const std::string& root_in, const SequenceOptions& options) {
   if (!(options.max_difference_s > 0))
     throw InputError("--max-diff", "max difference must be > 0 s, got " +
@@ -112,93 +201,15 @@ Sequence OpenSequence(const std::string& root_in, const SequenceOptions& options
   Sequence seq;
   seq.root = root;
   seq.camera = ResolveSequenceCamera(root, options.camera, &seq.camera_source);
-
-  if (!options.association_file.empty()) {
-    std::string assoc = options.association_file;
-    if (assoc[0] != '/' && !IsFile(assoc)) assoc = Join(root, assoc);
-    // associate.py output: "rgb_stamp rgb_file depth_stamp depth_file".
-    const std::vector<StampedLine> rows = ReadStampedList(assoc, 3, 3);
-    for (const StampedLine& row : rows) {
-      FrameEntry f;
-      f.index = static_cast<int>(seq.frames.size());
-      f.rgb_stamp = row.stamp;
-      f.rgb_stamp_text = row.stamp_text;
-      f.rgb_path = Join(root, row.fields[0]);
-      f.depth_stamp = ParseNumberField(row.fields[1], assoc, row.line, "depth timestamp");
-      if (!std::isfinite(f.depth_stamp))
-        throw InputError(assoc, row.line, "depth timestamp '" + row.fields[1] + "' is not finite");
-      f.depth_path = Join(root, row.fields[2]);
-      f.rgb_list_file = f.depth_list_file = assoc;
-      f.rgb_line = f.depth_line = row.line;
-      seq.frames.push_back(std::move(f));
-    }
-    seq.rgb_count = seq.depth_count = rows.size();
-    seq.association_source = "association file " + assoc;
-  } else {
-    const std::string rgb_txt = root + "/rgb.txt", depth_txt = root + "/depth.txt";
-    const std::vector<StampedLine> rgb = ReadStampedList(rgb_txt, 1, 1);
-    const std::vector<StampedLine> depth = ReadStampedList(depth_txt, 1, 1);
-    seq.rgb_count = rgb.size();
-    seq.depth_count = depth.size();
-    std::vector<double> rs, ds;
-    for (const auto& r : rgb) rs.push_back(r.stamp);
-    for (const auto& d : depth) ds.push_back(d.stamp);
-    // associate.py rgb.txt depth.txt: first = rgb, second = depth, offset 0.
-    for (const StampMatch& m : AssociateTum(rs, ds, options.max_difference_s)) {
-      FrameEntry f;
-      f.index = static_cast<int>(seq.frames.size());
-      f.rgb_stamp = rgb[m.first].stamp;
-      f.rgb_stamp_text = rgb[m.first].stamp_text;
-      f.rgb_path = Join(root, rgb[m.first].fields[0]);
-      f.depth_stamp = depth[m.second].stamp;
-      f.depth_path = Join(root, depth[m.second].fields[0]);
-      f.rgb_list_file = rgb_txt;
-      f.rgb_line = rgb[m.first].line;
-      f.depth_list_file = depth_txt;
-      f.depth_line = depth[m.second].line;
-      seq.frames.push_back(std::move(f));
-    }
-    seq.association_source = "associate.py greedy one-to-one, max_difference " +
-                             FormatDouble17(options.max_difference_s) + " s, offset 0";
-    if (seq.frames.empty())
-      throw InputError(rgb_txt, "zero associated RGB/depth pairs with " + depth_txt +
-                                    " within " + FormatDouble17(options.max_difference_s) + " s");
-  }
+  if (!options.association_file.empty()) OpenSeqFromAssociationFile(root, options.association_file, &seq);
+  else OpenSeqFromTumLists(root, options.max_difference_s, &seq);
   if (seq.frames.empty())
     throw InputError(seq.association_source, "zero associated RGB/depth pairs");
   for (const FrameEntry& f : seq.frames) {
     CheckImageListed(f.rgb_path, f.rgb_list_file, f.rgb_line, "RGB");
     CheckImageListed(f.depth_path, f.depth_list_file, f.depth_line, "depth");
   }
-  // Sizes of the first pair (decoding every frame here would be slow; LoadRgb/LoadDepthMeters
-  // check each later frame against the camera size).
-  {
-    const FrameEntry& f = seq.frames.front();
-    const cv::Mat rgb = dynref::ImageRead(f.rgb_path, cv::IMREAD_UNCHANGED);
-    const cv::Mat depth = dynref::ImageRead(f.depth_path, cv::IMREAD_UNCHANGED);
-    if (rgb.empty())
-      throw InputError(f.rgb_list_file, f.rgb_line, "cannot decode RGB image " + f.rgb_path);
-    if (depth.empty())
-      throw InputError(f.depth_list_file, f.depth_line,
-                       "cannot decode depth image " + f.depth_path);
-    if (depth.depth() != CV_16U || depth.channels() != 1)
-      throw InputError(f.depth_list_file, f.depth_line,
-                       "depth image " + f.depth_path + " is not a 1-channel 16-bit PNG (" +
-                           std::to_string(8 * static_cast<int>(depth.elemSize1())) + "-bit, " +
-                           std::to_string(depth.channels()) + " channel(s))");
-    if (rgb.size() != depth.size())
-      throw InputError(f.depth_list_file, f.depth_line,
-                       "image size mismatch: RGB " + f.rgb_path + " is " +
-                           std::to_string(rgb.cols) + "x" + std::to_string(rgb.rows) +
-                           ", depth " + f.depth_path + " is " + std::to_string(depth.cols) +
-                           "x" + std::to_string(depth.rows));
-    if (rgb.cols != seq.camera.width || rgb.rows != seq.camera.height)
-      throw InputError(f.rgb_list_file, f.rgb_line,
-                       "RGB image " + f.rgb_path + " is " + std::to_string(rgb.cols) + "x" +
-                           std::to_string(rgb.rows) + ", camera (" + seq.camera_source + ") is " +
-                           std::to_string(seq.camera.width) + "x" +
-                           std::to_string(seq.camera.height));
-  }
+  OpenSeqCheckFirstPair(seq);
   const std::string gt = root + "/groundtruth.txt";
   if (IsFile(gt)) {
     const TumTrajectory traj = ReadTumTrajectory(gt);

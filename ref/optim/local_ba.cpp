@@ -293,6 +293,206 @@ class BAProblem {
   std::vector<std::unique_ptr<ceres::CostFunction>> gauge_costs_;  // per line (LineGaugePrior)
 };
 
+// Edges of the point observations; unknown ids and negative weights are bad input.
+std::vector<BAEdge> LocalBaMakeEdges(const std::map<int64_t, size_t>& kf_index,
+                                     const std::map<int64_t, size_t>& point_index,
+                                     const std::vector<BAObservation>& observations, const LocalBAOptions& options) {
+  std::vector<BAEdge> edges(observations.size());
+  for (size_t i = 0; i < observations.size(); ++i) {
+    const BAObservation& o = observations[i];
+    const auto kf = kf_index.find(o.kf_id);
+    const auto pt = point_index.find(o.point_id);
+    if (kf == kf_index.end() || pt == point_index.end()) {
+      throw InputError("LocalBundleAdjust",
+                       "observation " + std::to_string(i) + " refers to unknown keyframe/point id");
+    }
+    if (!(o.inv_sigma2 >= 0) || !(o.weight >= 0)) {
+      throw InputError("LocalBundleAdjust",
+                       "observation " + std::to_string(i) + ": inv_sigma2 and weight must be >= 0");
+    }
+    BAEdge& e = edges[i];
+    e.kf = kf->second;
+    e.point = pt->second;
+    static_cast<EdgeModel&>(e) = MakeEdgeModel(o.uv, o.u_right, o.inv_sigma2, o.weight, options.chi2_mono,
+                                               options.chi2_stereo, options.weighted_outlier_test);
+  }
+  return edges;
+}
+
+// Edges of the line and plane observations.
+void LocalBaMakeStructureEdges(const LocalBAStructure& st, const std::map<int64_t, size_t>& kf_index,
+                               std::vector<StructureEdge>* line_edges, std::vector<StructureEdge>* plane_edges) {
+  line_edges->resize(st.line_observations.size());
+  plane_edges->resize(st.plane_observations.size());
+  const std::map<int64_t, size_t> line_index = IndexById(st.lines, "line");
+  const std::map<int64_t, size_t> plane_index = IndexById(st.planes, "plane");
+  for (size_t i = 0; i < line_edges->size(); ++i) {
+    const BALineObservation& o = st.line_observations[i];
+    const auto kf = kf_index.find(o.kf_id);
+    const auto l = line_index.find(o.line_id);
+    if (kf == kf_index.end() || l == line_index.end() || !(o.weight >= 0))
+      throw InputError("LocalBundleAdjust", "line observation " + std::to_string(i) + ": unknown id or negative weight");
+    (*line_edges)[i] = {i, kf->second, l->second};
+  }
+  for (size_t i = 0; i < plane_edges->size(); ++i) {
+    const BAPlaneObservation& o = st.plane_observations[i];
+    const auto kf = kf_index.find(o.kf_id);
+    const auto p = plane_index.find(o.plane_id);
+    if (kf == kf_index.end() || p == plane_index.end() || !(o.weight >= 0))
+      throw InputError("LocalBundleAdjust", "plane observation " + std::to_string(i) + ": unknown id or negative weight");
+    (*plane_edges)[i] = {i, kf->second, p->second};
+  }
+}
+
+// The terms of one LocalBundleAdjust call and their chi2 at given poses.
+struct LocalBaTerms {
+  const Intrinsics& K;
+  const LocalBAStructure& st;
+  const std::vector<BAEdge>& edges;
+  const std::vector<StructureEdge>& line_edges;
+  const std::vector<StructureEdge>& plane_edges;
+  BAProblem& problem;
+  double line_th = 0, plane_th = 0;
+  bool log = false;
+  double LineChi2At(const std::vector<SE3>& T, size_t i, std::vector<double>* raw, double* weighted) const {
+    return LineChi2(K, T[line_edges[i].kf], problem.LineAt(line_edges[i]), st.options, raw, weighted);
+  }
+  double PlaneChi2At(const std::vector<SE3>& T, size_t i, std::vector<double>* raw, double* weighted) const {
+    return PlaneChi2(T[plane_edges[i].kf], problem.PlaneAt(plane_edges[i]), st.options, raw, weighted);
+  }
+};
+
+// Which terms take part in the current phase, and what the link / residual records need.
+struct LocalBaPhaseState {
+  std::vector<uint8_t> active, line_active, plane_active;
+  std::vector<std::vector<double>> residual_start, line_start, plane_start;  // only when logging
+  // Outlier-test chi2 after the robust phase (+inf: not in it), for the link records.
+  std::vector<double> robust_chi2, line_robust_chi2, plane_robust_chi2;
+};
+
+LocalBaPhaseState LocalBaInitPhaseState(const LocalBaTerms& t) {
+  const size_t n = t.edges.size(), nl = t.line_edges.size(), np = t.plane_edges.size();
+  LocalBaPhaseState ps;
+  ps.residual_start.resize(t.log ? n : 0);
+  ps.line_start.resize(t.log ? nl : 0), ps.plane_start.resize(t.log ? np : 0);
+  ps.line_active.assign(nl, 0), ps.plane_active.assign(np, 0);
+  const double kInf = std::numeric_limits<double>::infinity();
+  ps.robust_chi2.assign(t.log ? n : 0, kInf), ps.line_robust_chi2.assign(t.log ? nl : 0, kInf),
+      ps.plane_robust_chi2.assign(t.log ? np : 0, kInf);
+  ps.active.assign(n, 0);
+  return ps;
+}
+
+// Only terms with a valid projection at the start enter the robust phase.
+void LocalBaClassifyStart(const LocalBaTerms& t, LocalBaPhaseState* ps) {
+  const std::vector<SE3> T = t.problem.Poses();
+  const std::vector<Eigen::Vector3d> X = t.problem.Points();
+  for (size_t i = 0; i < t.edges.size(); ++i) {
+    const double c = EdgeChi2(t.K, T, X, t.edges[i], t.log ? &ps->residual_start[i] : nullptr);
+    ps->active[i] = std::isfinite(c) ? 1 : 0;
+  }
+  for (size_t i = 0; i < t.line_edges.size(); ++i)
+    ps->line_active[i] = std::isfinite(t.LineChi2At(T, i, t.log ? &ps->line_start[i] : nullptr, nullptr)) ? 1 : 0;
+  for (size_t i = 0; i < t.plane_edges.size(); ++i)
+    ps->plane_active[i] = std::isfinite(t.PlaneChi2At(T, i, t.log ? &ps->plane_start[i] : nullptr, nullptr)) ? 1 : 0;
+}
+
+// Outlier removal: chi2 > threshold or depth not positive (ORB-SLAM2 setLevel(1)).
+void LocalBaRemoveOutliers(const LocalBaTerms& t, LocalBaPhaseState* ps) {
+  const std::vector<SE3> T = t.problem.Poses();
+  const std::vector<Eigen::Vector3d> X = t.problem.Points();
+  for (size_t i = 0; i < t.edges.size(); ++i) {
+    if (!ps->active[i]) continue;
+    const double c = EdgeChi2(t.K, T, X, t.edges[i], nullptr);
+    if (t.log) ps->robust_chi2[i] = c;
+    ps->active[i] = c <= t.edges[i].threshold ? 1 : 0;
+  }
+  for (size_t i = 0; i < t.line_edges.size(); ++i) {
+    if (!ps->line_active[i]) continue;
+    const double c = t.LineChi2At(T, i, nullptr, nullptr);
+    if (t.log) ps->line_robust_chi2[i] = c;
+    ps->line_active[i] = c <= t.line_th ? 1 : 0;
+  }
+  for (size_t i = 0; i < t.plane_edges.size(); ++i) {
+    if (!ps->plane_active[i]) continue;
+    const double c = t.PlaneChi2At(T, i, nullptr, nullptr);
+    if (t.log) ps->plane_robust_chi2[i] = c;
+    ps->plane_active[i] = c <= t.plane_th ? 1 : 0;
+  }
+}
+
+// Where the final classification writes its link and residual records (trace null: none).
+struct LocalBaTraceSink {
+  trace::TraceWriter* trace;
+  const std::string& call_id;
+  std::string link;
+};
+
+constexpr int kLocalBaFeature = 0, kLocalBaLineSample = 3, kLocalBaPlane = 4;  // trace::EntityKind
+
+// Final point classification at the refined parameters (+ link / residual records).
+void LocalBaClassifyPoints(const LocalBaTerms& t, const std::vector<BAObservation>& observations,
+                           const LocalBaPhaseState& ps, const LocalBaTraceSink& sink, const std::vector<SE3>& T,
+                           const std::vector<Eigen::Vector3d>& X, std::vector<double>* residual_end,
+                           LocalBAResult* result) {
+  const size_t n = t.edges.size();
+  result->inlier.assign(n, 0);
+  std::vector<double> chi2(n);
+  for (size_t i = 0; i < n; ++i) {
+    double weighted = 0;
+    chi2[i] = EdgeChi2(t.K, T, X, t.edges[i], t.log ? residual_end : nullptr, &weighted);
+    // Dropped edges stay outliers (g2o keeps their stale error above the threshold).
+    result->inlier[i] = ps.active[i] && chi2[i] <= t.edges[i].threshold ? 1 : 0;
+    result->num_inliers += result->inlier[i];
+    if (t.log) {
+      const BAObservation& o = observations[i];
+      const std::string obs_id = "mp" + std::to_string(o.point_id) + "@kf" + std::to_string(o.kf_id);
+      WriteResidualLink(*sink.trace, sink.link, kLocalBaFeature, obs_id, "feature", o.trace_feature,
+                        {{"robust_chi2", ps.robust_chi2[i]}});
+      sink.trace->Residual(sink.call_id, t.edges[i].stereo ? "rgbd3" : "mono2", obs_id,
+                           ps.residual_start[i], *residual_end, o.inv_sigma2, o.weight,
+                           HuberRho(weighted, t.edges[i].threshold), chi2[i], result->inlier[i] != 0);
+    }
+  }
+  result->chi2 = chi2;
+}
+
+// Final line and plane classification (+ link / residual records), after the points.
+void LocalBaClassifyStructure(const LocalBaTerms& t, const LocalBaPhaseState& ps, const LocalBaTraceSink& sink,
+                              const std::vector<SE3>& T, std::vector<double>* residual_end, LocalBAResult* result) {
+  const LocalBAStructure& st = t.st;
+  result->line_inlier.assign(t.line_edges.size(), 0);
+  result->plane_inlier.assign(t.plane_edges.size(), 0);
+  for (size_t i = 0; i < t.line_edges.size(); ++i) {
+    double weighted = 0;
+    const double c = t.LineChi2At(T, i, t.log ? residual_end : nullptr, &weighted);
+    result->line_inlier[i] = ps.line_active[i] && c <= t.line_th ? 1 : 0;
+    if (t.log) {
+      const BALineObservation& o = st.line_observations[i];
+      const std::string obs_id = "ml" + std::to_string(o.line_id) + "@kf" + std::to_string(o.kf_id);
+      WriteResidualLink(*sink.trace, sink.link, kLocalBaLineSample, obs_id, "line", o.trace_line,
+                        {{"robust_chi2", ps.line_robust_chi2[i]}});
+      sink.trace->Residual(sink.call_id, st.options.literal_line ? "line1" : "line4", obs_id, ps.line_start[i],
+                           *residual_end, 1.0 / (st.options.line_sigma_px * st.options.line_sigma_px), o.weight,
+                           HuberRho(weighted, t.line_th), c, result->line_inlier[i] != 0);
+    }
+  }
+  for (size_t i = 0; i < t.plane_edges.size(); ++i) {
+    double weighted = 0;
+    const double c = t.PlaneChi2At(T, i, t.log ? residual_end : nullptr, &weighted);
+    result->plane_inlier[i] = ps.plane_active[i] && c <= t.plane_th ? 1 : 0;
+    if (t.log) {
+      const BAPlaneObservation& o = st.plane_observations[i];
+      const std::string obs_id = "mpl" + std::to_string(o.plane_id) + "@kf" + std::to_string(o.kf_id);
+      WriteResidualLink(*sink.trace, sink.link, kLocalBaPlane, obs_id, "plane", o.trace_plane,
+                        {{"robust_chi2", ps.plane_robust_chi2[i]}});
+      sink.trace->Residual(sink.call_id, "plane3", obs_id, ps.plane_start[i], *residual_end,
+                           1.0 / (st.options.plane_dist_sigma_m * st.options.plane_dist_sigma_m), o.weight,
+                           HuberRho(weighted, t.plane_th), c, result->plane_inlier[i] != 0);
+    }
+  }
+}
+
 }  // namespace
 
 LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFrame>& keyframes,
@@ -314,162 +514,32 @@ LocalBAResult LocalBundleAdjust(const Intrinsics& K, const std::vector<BAKeyFram
   st.options.Check();
   const std::map<int64_t, size_t> kf_index = IndexById(keyframes, "keyframe");
   const std::map<int64_t, size_t> point_index = IndexById(points, "point");
-  const size_t n = observations.size();
-  std::vector<BAEdge> edges(n);
-  for (size_t i = 0; i < n; ++i) {
-    const BAObservation& o = observations[i];
-    const auto kf = kf_index.find(o.kf_id);
-    const auto pt = point_index.find(o.point_id);
-    if (kf == kf_index.end() || pt == point_index.end()) {
-      throw InputError("LocalBundleAdjust",
-                       "observation " + std::to_string(i) + " refers to unknown keyframe/point id");
-    }
-    if (!(o.inv_sigma2 >= 0) || !(o.weight >= 0)) {
-      throw InputError("LocalBundleAdjust",
-                       "observation " + std::to_string(i) + ": inv_sigma2 and weight must be >= 0");
-    }
-    BAEdge& e = edges[i];
-    e.kf = kf->second;
-    e.point = pt->second;
-    static_cast<EdgeModel&>(e) = MakeEdgeModel(o.uv, o.u_right, o.inv_sigma2, o.weight, options.chi2_mono,
-                                               options.chi2_stereo, options.weighted_outlier_test);
-  }
-
-  std::vector<StructureEdge> line_edges(st.line_observations.size()), plane_edges(st.plane_observations.size());
-  {
-    const std::map<int64_t, size_t> line_index = IndexById(st.lines, "line");
-    const std::map<int64_t, size_t> plane_index = IndexById(st.planes, "plane");
-    for (size_t i = 0; i < line_edges.size(); ++i) {
-      const BALineObservation& o = st.line_observations[i];
-      const auto kf = kf_index.find(o.kf_id);
-      const auto l = line_index.find(o.line_id);
-      if (kf == kf_index.end() || l == line_index.end() || !(o.weight >= 0))
-        throw InputError("LocalBundleAdjust", "line observation " + std::to_string(i) + ": unknown id or negative weight");
-      line_edges[i] = {i, kf->second, l->second};
-    }
-    for (size_t i = 0; i < plane_edges.size(); ++i) {
-      const BAPlaneObservation& o = st.plane_observations[i];
-      const auto kf = kf_index.find(o.kf_id);
-      const auto p = plane_index.find(o.plane_id);
-      if (kf == kf_index.end() || p == plane_index.end() || !(o.weight >= 0))
-        throw InputError("LocalBundleAdjust", "plane observation " + std::to_string(i) + ": unknown id or negative weight");
-      plane_edges[i] = {i, kf->second, p->second};
-    }
-  }
+  const std::vector<BAEdge> edges = LocalBaMakeEdges(kf_index, point_index, observations, options);
+  std::vector<StructureEdge> line_edges, plane_edges;
+  LocalBaMakeStructureEdges(st, kf_index, &line_edges, &plane_edges);
   const bool log = trace != nullptr && trace->full_enabled();
-  std::vector<std::vector<double>> residual_start(log ? n : 0);
-  std::vector<std::vector<double>> line_start(log ? line_edges.size() : 0), plane_start(log ? plane_edges.size() : 0);
   BAProblem problem(K, keyframes, points, edges, options, st, line_edges, plane_edges);
-  const double line_th = st.options.LineChi2(), plane_th = st.options.chi2_plane;
-  const auto line_chi2 = [&](const std::vector<SE3>& T, size_t i, std::vector<double>* raw, double* weighted) {
-    return LineChi2(K, T[line_edges[i].kf], problem.LineAt(line_edges[i]), st.options, raw, weighted);
-  };
-  const auto plane_chi2 = [&](const std::vector<SE3>& T, size_t i, std::vector<double>* raw, double* weighted) {
-    return PlaneChi2(T[plane_edges[i].kf], problem.PlaneAt(plane_edges[i]), st.options, raw, weighted);
-  };
-  std::vector<uint8_t> line_active(line_edges.size(), 0), plane_active(plane_edges.size(), 0);
-  // Outlier-test chi2 after the robust phase (+inf: not in it), for the link records.
-  const double kInf = std::numeric_limits<double>::infinity();
-  std::vector<double> robust_chi2(log ? n : 0, kInf), line_robust_chi2(log ? line_edges.size() : 0, kInf),
-      plane_robust_chi2(log ? plane_edges.size() : 0, kInf);
-  const std::string link = log ? LinkStage(call_id) : std::string();
-  constexpr int kFeature = 0, kLineSample = 3, kPlane = 4;  // trace::EntityKind
+  const LocalBaTerms terms{K, st, edges, line_edges, plane_edges, problem, st.options.LineChi2(), st.options.chi2_plane, log};
+  LocalBaPhaseState ps = LocalBaInitPhaseState(terms);
+  const LocalBaTraceSink sink{trace, call_id, log ? LinkStage(call_id) : std::string()};
 
-  // Only edges with a valid projection at the start enter the robust phase.
-  std::vector<uint8_t> active(n, 0);
-  {
-    const std::vector<SE3> T = problem.Poses();
-    const std::vector<Eigen::Vector3d> X = problem.Points();
-    for (size_t i = 0; i < n; ++i) {
-      const double c = EdgeChi2(K, T, X, edges[i], log ? &residual_start[i] : nullptr);
-      active[i] = std::isfinite(c) ? 1 : 0;
-    }
-    for (size_t i = 0; i < line_edges.size(); ++i)
-      line_active[i] = std::isfinite(line_chi2(T, i, log ? &line_start[i] : nullptr, nullptr)) ? 1 : 0;
-    for (size_t i = 0; i < plane_edges.size(); ++i)
-      plane_active[i] = std::isfinite(plane_chi2(T, i, log ? &plane_start[i] : nullptr, nullptr)) ? 1 : 0;
-  }
+  LocalBaClassifyStart(terms, &ps);
   // Phase 1: Huber (ORB-SLAM2 optimize(5)).
-  problem.Solve(options.iterations_robust, /*robust=*/true, active, line_active, plane_active);
-  // Outlier removal: chi2 > threshold or depth not positive (ORB-SLAM2 setLevel(1)).
-  {
-    const std::vector<SE3> T = problem.Poses();
-    const std::vector<Eigen::Vector3d> X = problem.Points();
-    for (size_t i = 0; i < n; ++i) {
-      if (!active[i]) continue;
-      const double c = EdgeChi2(K, T, X, edges[i], nullptr);
-      if (log) robust_chi2[i] = c;
-      active[i] = c <= edges[i].threshold ? 1 : 0;
-    }
-    for (size_t i = 0; i < line_edges.size(); ++i) {
-      if (!line_active[i]) continue;
-      const double c = line_chi2(T, i, nullptr, nullptr);
-      if (log) line_robust_chi2[i] = c;
-      line_active[i] = c <= line_th ? 1 : 0;
-    }
-    for (size_t i = 0; i < plane_edges.size(); ++i) {
-      if (!plane_active[i]) continue;
-      const double c = plane_chi2(T, i, nullptr, nullptr);
-      if (log) plane_robust_chi2[i] = c;
-      plane_active[i] = c <= plane_th ? 1 : 0;
-    }
-  }
+  problem.Solve(options.iterations_robust, /*robust=*/true, ps.active, ps.line_active, ps.plane_active);
+  LocalBaRemoveOutliers(terms, &ps);
   // Phase 2: no robust kernel, outliers excluded (ORB-SLAM2 optimize(10)).
-  problem.Solve(options.iterations_refine, /*robust=*/false, active, line_active, plane_active);
+  problem.Solve(options.iterations_refine, /*robust=*/false, ps.active, ps.line_active, ps.plane_active);
 
   LocalBAResult result;
   const std::vector<SE3> T = problem.Poses();
   const std::vector<Eigen::Vector3d> X = problem.Points();
   for (size_t k = 0; k < keyframes.size(); ++k) result.T_cw[keyframes[k].id] = T[k];
   for (size_t p = 0; p < points.size(); ++p) result.X_w[points[p].id] = X[p];
-  result.inlier.assign(n, 0);
-  std::vector<double> chi2(n), residual_end;
-  for (size_t i = 0; i < n; ++i) {
-    double weighted = 0;
-    chi2[i] = EdgeChi2(K, T, X, edges[i], log ? &residual_end : nullptr, &weighted);
-    // Dropped edges stay outliers (g2o keeps their stale error above the threshold).
-    result.inlier[i] = active[i] && chi2[i] <= edges[i].threshold ? 1 : 0;
-    result.num_inliers += result.inlier[i];
-    if (log) {
-      const BAObservation& o = observations[i];
-      const std::string obs_id = "mp" + std::to_string(o.point_id) + "@kf" + std::to_string(o.kf_id);
-      WriteResidualLink(*trace, link, kFeature, obs_id, "feature", o.trace_feature, {{"robust_chi2", robust_chi2[i]}});
-      trace->Residual(call_id, edges[i].stereo ? "rgbd3" : "mono2", obs_id,
-                      residual_start[i], residual_end, o.inv_sigma2, o.weight,
-                      HuberRho(weighted, edges[i].threshold), chi2[i], result.inlier[i] != 0);
-    }
-  }
-  result.chi2 = chi2;
+  std::vector<double> residual_end;
+  LocalBaClassifyPoints(terms, observations, ps, sink, T, X, &residual_end, &result);
   for (size_t k = 0; k < st.lines.size(); ++k) result.line_P[st.lines[k].id] = problem.Line(k);
   for (size_t k = 0; k < st.planes.size(); ++k) result.plane[st.planes[k].id] = problem.Plane(k);
-  result.line_inlier.assign(line_edges.size(), 0);
-  result.plane_inlier.assign(plane_edges.size(), 0);
-  for (size_t i = 0; i < line_edges.size(); ++i) {
-    double weighted = 0;
-    const double c = line_chi2(T, i, log ? &residual_end : nullptr, &weighted);
-    result.line_inlier[i] = line_active[i] && c <= line_th ? 1 : 0;
-    if (log) {
-      const BALineObservation& o = st.line_observations[i];
-      const std::string obs_id = "ml" + std::to_string(o.line_id) + "@kf" + std::to_string(o.kf_id);
-      WriteResidualLink(*trace, link, kLineSample, obs_id, "line", o.trace_line, {{"robust_chi2", line_robust_chi2[i]}});
-      trace->Residual(call_id, st.options.literal_line ? "line1" : "line4", obs_id, line_start[i], residual_end,
-                      1.0 / (st.options.line_sigma_px * st.options.line_sigma_px), o.weight,
-                      HuberRho(weighted, line_th), c, result.line_inlier[i] != 0);
-    }
-  }
-  for (size_t i = 0; i < plane_edges.size(); ++i) {
-    double weighted = 0;
-    const double c = plane_chi2(T, i, log ? &residual_end : nullptr, &weighted);
-    result.plane_inlier[i] = plane_active[i] && c <= plane_th ? 1 : 0;
-    if (log) {
-      const BAPlaneObservation& o = st.plane_observations[i];
-      const std::string obs_id = "mpl" + std::to_string(o.plane_id) + "@kf" + std::to_string(o.kf_id);
-      WriteResidualLink(*trace, link, kPlane, obs_id, "plane", o.trace_plane, {{"robust_chi2", plane_robust_chi2[i]}});
-      trace->Residual(call_id, "plane3", obs_id,
-                      plane_start[i], residual_end, 1.0 / (st.options.plane_dist_sigma_m * st.options.plane_dist_sigma_m),
-                      o.weight, HuberRho(weighted, plane_th), c, result.plane_inlier[i] != 0);
-    }
-  }
+  LocalBaClassifyStructure(terms, ps, sink, T, &residual_end, &result);
   return result;
 }
 

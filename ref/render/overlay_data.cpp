@@ -94,11 +94,124 @@ OverlayLoop LoopOf(const trace::Record& r) {
   return l;
 }
 
+// One frame being collected: its overlay and the per-entity values to resolve at the end.
+struct OverlayDataFrameState {
+  OverlayFrame of;
+  std::map<int64_t, double> feature_prob;
+  std::map<int64_t, int> feature_decision, map_point_decision;
+  std::map<std::string, size_t> shape_of;
+};
+
+OverlayShape& OverlayDataShape(const trace::Record& r, OverlayDataFrameState* st) {
+  auto it = st->shape_of.find(r.entity);
+  if (it == st->shape_of.end()) {
+    it = st->shape_of.emplace(r.entity, st->of.shapes.size()).first;
+    OverlayShape s;
+    s.kind = r.kind;
+    s.entity = r.entity;
+    st->of.shapes.push_back(s);
+  }
+  return st->of.shapes[it->second];
+}
+
+int OverlayDataInstanceId(const std::string& e, int64_t frame) {
+  const std::string prefix = "i" + std::to_string(frame) + ".";
+  if (e.compare(0, prefix.size(), prefix) != 0) return -1;
+  return std::atoi(e.c_str() + prefix.size());
+}
+
+// A line sample / plane / pixel region record: decision, probability and geometry inputs.
+void OverlayDataShapeRecord(const trace::Record& r, bool prob, OverlayShape& s) {
+  using trace::EntityKind;
+  if (!prob) {
+    s.decision = r.kept ? 1 : 0;
+    return;
+  }
+  // The backbone's geometry record (stage "structure", written after the final pose)
+  // carries no probability: it must not overwrite a method's.
+  if (r.stage != trace::kGeometryStage) s.has_prob = true, s.prob = r.after;
+  bool found = true;
+  const bool line = r.kind == EntityKind::kLineSample;
+  const double x0 = InputOr(r, line ? "x0" : "x_min", s.x0, &found);
+  const double y0 = InputOr(r, line ? "y0" : "y_min", s.y0, &found);
+  const double x1 = InputOr(r, line ? "x1" : "x_max", s.x1, &found);
+  const double y1 = InputOr(r, line ? "y1" : "y_max", s.y1, &found);
+  if (found) s.x0 = x0, s.y0 = y0, s.x1 = x1, s.y1 = y1;
+  bool has_id = true;
+  const double id = InputOr(r, line ? "map_line" : "map_plane", -1, &has_id);
+  if (has_id) s.landmark = static_cast<int64_t>(id);
+}
+
+// A PROB or DECISION record, by the kind of entity it is about.
+void OverlayDataEntityRecord(const trace::Record& r, int64_t frame, OverlayDataFrameState* st,
+                             std::map<int64_t, double>* map_point_prob) {
+  using trace::EntityKind;
+  const bool mp = r.entity.size() > 2 && r.entity.compare(0, 2, "mp") == 0;
+  const bool prob = r.type == trace::RecordType::kProbability;
+  if (r.kind == EntityKind::kKeyFrame) {
+    if (prob && r.stage == "loop.transform") st->of.loops.push_back(LoopOf(r));
+  } else if (r.kind == EntityKind::kMapPoint && mp) {
+    const int64_t id = std::atoll(r.entity.c_str() + 2);
+    if (prob) (*map_point_prob)[id] = r.after;
+    else st->map_point_decision[id] = r.kept ? 1 : 0;
+  } else if (r.kind == EntityKind::kFeature) {
+    const int64_t idx = FeatureIndexOf(r.entity, frame);
+    if (idx < 0) return;
+    if (prob) st->feature_prob[idx] = r.after;
+    else st->feature_decision[idx] = r.kept ? 1 : 0;
+  } else if (r.kind == EntityKind::kInstanceMask) {
+    const int id = OverlayDataInstanceId(r.entity, frame);
+    if (id < 0) return;
+    OverlayInstanceState& s = st->of.instances[id];
+    if (prob) s.has_prob = true, s.prob = r.after;
+    else s.decision = r.kept ? 1 : 0;
+  } else if (r.kind == EntityKind::kLineSample || r.kind == EntityKind::kPlane ||
+             r.kind == EntityKind::kPixelRegion) {
+    OverlayDataShapeRecord(r, prob, OverlayDataShape(r, st));
+  }
+}
+
+void OverlayDataRecord(const trace::Record& r, int64_t frame, OverlayDataFrameState* st,
+                       std::map<int64_t, double>* map_point_prob) {
+  using trace::RecordType;
+  switch (r.type) {
+    case RecordType::kFrame: st->of.timestamp = r.timestamp; break;
+    case RecordType::kCount: st->of.counts.push_back({r.stage + "." + r.name, r.value}); break;
+    case RecordType::kObservation: {
+      OverlayFeature f;
+      f.index = r.feature_index, f.map_point_id = r.map_point_id, f.u = r.u, f.v = r.v;
+      st->of.features.push_back(f);
+      break;
+    }
+    case RecordType::kProbability:
+    case RecordType::kDecision:
+      OverlayDataEntityRecord(r, frame, st, map_point_prob);
+      break;
+    default: break;
+  }
+}
+
+// Features take their own P / decision, else their map point's; shapes without geometry inputs
+// cannot be drawn.
+void OverlayDataResolve(const std::map<int64_t, double>& map_point_prob, OverlayDataFrameState* st) {
+  for (OverlayFeature& f : st->of.features) {
+    auto fp = st->feature_prob.find(f.index);
+    auto mpp = map_point_prob.find(f.map_point_id);
+    if (fp != st->feature_prob.end()) f.has_prob = true, f.prob = fp->second;
+    else if (f.map_point_id >= 0 && mpp != map_point_prob.end()) f.has_prob = true, f.prob = mpp->second;
+    auto fd = st->feature_decision.find(f.index);
+    auto md = st->map_point_decision.find(f.map_point_id);
+    if (fd != st->feature_decision.end()) f.decision = fd->second;
+    else if (f.map_point_id >= 0 && md != st->map_point_decision.end()) f.decision = md->second;
+  }
+  std::vector<OverlayShape> drawable;
+  for (const OverlayShape& s : st->of.shapes)
+    if (s.x0 != s.x1 || s.y0 != s.y1) drawable.push_back(s);
+  st->of.shapes = std::move(drawable);
+}
 }  // namespace
 
 std::vector<OverlayFrame> CollectOverlayFrames(trace::TraceReader& reader, int64_t first, int64_t last) {
-  using trace::EntityKind;
-  using trace::RecordType;
   std::map<int64_t, double> map_point_prob;  // carried across frames
   std::vector<OverlayFrame> out;
   for (size_t gi = 0; gi < reader.groups().size(); ++gi) {
@@ -106,101 +219,12 @@ std::vector<OverlayFrame> CollectOverlayFrames(trace::TraceReader& reader, int64
     if (frame > last) break;
     const std::vector<trace::Record> recs = reader.ReadGroup(gi);
     const bool wanted = frame >= first;
-    OverlayFrame of;
-    of.frame = frame;
-    std::map<int64_t, double> feature_prob;
-    std::map<int64_t, int> feature_decision, map_point_decision;
-    std::map<std::string, size_t> shape_of;
-    auto shape = [&](const trace::Record& r) -> OverlayShape& {
-      auto it = shape_of.find(r.entity);
-      if (it == shape_of.end()) {
-        it = shape_of.emplace(r.entity, of.shapes.size()).first;
-        OverlayShape s;
-        s.kind = r.kind;
-        s.entity = r.entity;
-        of.shapes.push_back(s);
-      }
-      return of.shapes[it->second];
-    };
-    auto instance_id = [&](const std::string& e) -> int {
-      const std::string prefix = "i" + std::to_string(frame) + ".";
-      if (e.compare(0, prefix.size(), prefix) != 0) return -1;
-      return std::atoi(e.c_str() + prefix.size());
-    };
-    for (const trace::Record& r : recs) {
-      const bool mp = r.entity.size() > 2 && r.entity.compare(0, 2, "mp") == 0;
-      switch (r.type) {
-        case RecordType::kFrame: of.timestamp = r.timestamp; break;
-        case RecordType::kCount: of.counts.push_back({r.stage + "." + r.name, r.value}); break;
-        case RecordType::kObservation: {
-          OverlayFeature f;
-          f.index = r.feature_index, f.map_point_id = r.map_point_id, f.u = r.u, f.v = r.v;
-          of.features.push_back(f);
-          break;
-        }
-        case RecordType::kProbability:
-        case RecordType::kDecision: {
-          const bool prob = r.type == RecordType::kProbability;
-          if (r.kind == EntityKind::kKeyFrame) {
-            if (prob && r.stage == "loop.transform") of.loops.push_back(LoopOf(r));
-          } else if (r.kind == EntityKind::kMapPoint && mp) {
-            const int64_t id = std::atoll(r.entity.c_str() + 2);
-            if (prob) map_point_prob[id] = r.after;
-            else map_point_decision[id] = r.kept ? 1 : 0;
-          } else if (r.kind == EntityKind::kFeature) {
-            const int64_t idx = FeatureIndexOf(r.entity, frame);
-            if (idx < 0) break;
-            if (prob) feature_prob[idx] = r.after;
-            else feature_decision[idx] = r.kept ? 1 : 0;
-          } else if (r.kind == EntityKind::kInstanceMask) {
-            const int id = instance_id(r.entity);
-            if (id < 0) break;
-            OverlayInstanceState& s = of.instances[id];
-            if (prob) s.has_prob = true, s.prob = r.after;
-            else s.decision = r.kept ? 1 : 0;
-          } else if (r.kind == EntityKind::kLineSample || r.kind == EntityKind::kPlane ||
-                     r.kind == EntityKind::kPixelRegion) {
-            OverlayShape& s = shape(r);
-            if (!prob) {
-              s.decision = r.kept ? 1 : 0;
-              break;
-            }
-            // The backbone's geometry record (stage "structure", written after the final pose)
-            // carries no probability: it must not overwrite a method's.
-            if (r.stage != trace::kGeometryStage) s.has_prob = true, s.prob = r.after;
-            bool found = true;
-            const bool line = r.kind == EntityKind::kLineSample;
-            const double x0 = InputOr(r, line ? "x0" : "x_min", s.x0, &found);
-            const double y0 = InputOr(r, line ? "y0" : "y_min", s.y0, &found);
-            const double x1 = InputOr(r, line ? "x1" : "x_max", s.x1, &found);
-            const double y1 = InputOr(r, line ? "y1" : "y_max", s.y1, &found);
-            if (found) s.x0 = x0, s.y0 = y0, s.x1 = x1, s.y1 = y1;
-            bool has_id = true;
-            const double id = InputOr(r, line ? "map_line" : "map_plane", -1, &has_id);
-            if (has_id) s.landmark = static_cast<int64_t>(id);
-          }
-          break;
-        }
-        default: break;
-      }
-    }
+    OverlayDataFrameState st;
+    st.of.frame = frame;
+    for (const trace::Record& r : recs) OverlayDataRecord(r, frame, &st, &map_point_prob);
     if (!wanted) continue;
-    for (OverlayFeature& f : of.features) {
-      auto fp = feature_prob.find(f.index);
-      auto mpp = map_point_prob.find(f.map_point_id);
-      if (fp != feature_prob.end()) f.has_prob = true, f.prob = fp->second;
-      else if (f.map_point_id >= 0 && mpp != map_point_prob.end()) f.has_prob = true, f.prob = mpp->second;
-      auto fd = feature_decision.find(f.index);
-      auto md = map_point_decision.find(f.map_point_id);
-      if (fd != feature_decision.end()) f.decision = fd->second;
-      else if (f.map_point_id >= 0 && md != map_point_decision.end()) f.decision = md->second;
-    }
-    // Shapes without geometry inputs cannot be drawn.
-    std::vector<OverlayShape> drawable;
-    for (const OverlayShape& s : of.shapes)
-      if (s.x0 != s.x1 || s.y0 != s.y1) drawable.push_back(s);
-    of.shapes = std::move(drawable);
-    out.push_back(std::move(of));
+    OverlayDataResolve(map_point_prob, &st);
+    out.push_back(std::move(st.of));
   }
   return out;
 }

@@ -91,6 +91,99 @@ void BoxFromMask(const cv::Mat& mask, int jitter, Rng& rng, DetectedInstance* d)
   d->y_max = std::min(double(mask.rows - 1), std::max(d->y_min, r.y + r.height - 1 + j()));
 }
 
+// Blur streak per instance: centroid displacement since the previous frame (px/frame) times
+// the exposure in frame intervals; 0 without blur or without a previous frame. Replaces
+// *centroids with this frame's.
+std::map<int, double> DegradeBlurStreaks(const std::map<int, Stats>& stats, bool consecutive, double exposure_frames,
+                                         double blur_max_px, std::map<int, cv::Point2d>* centroids) {
+  std::map<int, double> blur_px;
+  std::map<int, cv::Point2d> centroid;
+  for (const auto& [id, s] : stats) {
+    const cv::Point2d c(s.x_sum / s.area, s.y_sum / s.area);
+    const auto prev = centroids->find(id);
+    if (consecutive && prev != centroids->end())
+      blur_px[id] = std::min(blur_max_px, cv::norm(c - prev->second) * exposure_frames);
+    centroid.emplace(id, c);
+  }
+  *centroids = std::move(centroid);
+  return blur_px;
+}
+
+// Missed bursts (stay / enter, more likely under blur streak L) and small-instance misses;
+// true when the instance is not detected this frame.
+bool DegradeDrawMissed(const DegradeProfile& p, const Stats& s, double L, bool* missed, Rng& rng, bool* small_miss) {
+  if (*missed) {
+    *missed = rng.Bernoulli(p.miss_stay);
+  } else {
+    const double p_blur = std::min(p.blur_drop_max, p.blur_drop_per_px * L);
+    *missed = rng.Bernoulli(L > 0 ? 1.0 - (1.0 - p.miss_enter) * (1.0 - p_blur) : p.miss_enter);
+  }
+  *small_miss = s.area < p.small_area_px && rng.Bernoulli(p.small_miss);
+  return *missed || *small_miss;
+}
+
+// The detected mask of instance id: blur shrink, dropped person limbs, jittered boundary.
+cv::Mat DegradeMask(const DegradeProfile& p, const GtFrame& gt, int id, const InstanceLabel& label, double L, Rng& rng,
+                    std::vector<DegradeEvent>* events) {
+  cv::Mat mask = gt.instance_ids == id;
+  if (L > 0 && rng.Bernoulli(std::min(p.blur_shrink_max, p.blur_shrink_per_px * L))) {
+    const int radius = int(std::lround(p.blur_shrink_depth * L));
+    if (radius > 0) {
+      cv::erode(mask, mask, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1)));
+      events->push_back({id, "shrunk", L, radius});
+    }
+  }
+  if (label.coco_id == 0 && rng.Bernoulli(p.limb_drop)) {
+    const int limbs[4] = {kForearmL, kForearmR, kShinL, kShinR};
+    const int limb = limbs[rng.UniformInt(0, 3)];
+    mask.setTo(0, gt.body_part == limb);
+    if (rng.Bernoulli(0.3)) mask.setTo(0, gt.body_part == limb - 2);  // upper arm / thigh too
+  }
+  return JitterBoundary(mask, p.boundary_jitter_px, uint32_t(rng.NextU64()), rng);
+}
+
+// One false positive on a large static instance (painted first: any true detection overlapping it wins).
+void DegradeFalsePositive(const DegradeProfile& p, const GtFrame& gt, const std::map<int, InstanceLabel>& labels,
+                          const std::vector<int>& static_candidates, Rng& rng, std::vector<Record>* recs) {
+  if (static_candidates.empty() || !rng.Bernoulli(p.false_positive)) return;
+  Record r;
+  r.gt_id = static_candidates[size_t(rng.UniformInt(0, int64_t(static_candidates.size()) - 1))];
+  r.false_positive = true;
+  r.depth = 1e9;  // painted first: any true detection overlapping it wins
+  r.mask = JitterBoundary(gt.instance_ids == r.gt_id, p.boundary_jitter_px, uint32_t(rng.NextU64()), rng);
+  r.det.class_id = rng.Bernoulli(0.6) ? 0 : Confuse(labels.at(r.gt_id).coco_id, rng);
+  r.det.class_name = CocoClassName(r.det.class_id);
+  r.det.confidence = rng.Uniform(0.25, 0.45);
+  if (cv::countNonZero(r.mask) > 0) recs->push_back(std::move(r));
+}
+
+// Paints the records far to near into the frame's id image; a fully overpainted one is dropped
+// (an event unless it is the false positive), the others get their box.
+FrameDetections DegradePaint(const DegradeProfile& p, const GtFrame& gt, std::vector<Record>& recs,
+                             std::map<int, double>& blur_px, Rng& rng, std::vector<DegradeEvent>* events) {
+  FrameDetections f;
+  f.stamp_text = gt.stamp_text;
+  f.instance_ids = cv::Mat::zeros(gt.instance_ids.size(), CV_16U);
+  std::vector<size_t> order(recs.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return recs[a].depth != recs[b].depth ? recs[a].depth > recs[b].depth : recs[a].gt_id < recs[b].gt_id;
+  });
+  for (size_t i : order) f.instance_ids.setTo(recs[i].det.id, recs[i].mask);
+  for (Record& r : recs) {
+    if (cv::countNonZero(f.instance_ids == r.det.id) == 0) {  // fully overpainted
+      if (!r.false_positive) events->push_back({r.gt_id, "overpainted", blur_px.count(r.gt_id) ? blur_px[r.gt_id] : 0.0, 0});
+      continue;
+    }
+    BoxFromMask(f.instance_ids == r.det.id, p.box_jitter_px, rng, &r.det);
+    r.det.has_mask = true;
+    f.instances.push_back(r.det);
+  }
+  std::sort(f.instances.begin(), f.instances.end(),
+            [](const DetectedInstance& a, const DetectedInstance& b) { return a.id < b.id; });
+  return f;
+}
+
 }  // namespace
 
 DegradeProfile ProfileFor(const std::string& mode) {
@@ -153,19 +246,8 @@ FrameDetections Degrader::Apply(int frame_index, const GtFrame& gt) {
   Rng rng(seed_, "synth.detections." + p_.name + "." + std::to_string(frame_index));
   const auto stats = InstanceStats(gt);
   events_.clear();
-  // Blur streak per instance: centroid displacement since the previous frame (px/frame) times
-  // the exposure in frame intervals; 0 without blur or without a previous frame.
-  std::map<int, double> blur_px;
-  std::map<int, cv::Point2d> centroid;
   const bool consecutive = blur_exposure_frames_ > 0 && previous_frame_ == frame_index - 1;
-  for (const auto& [id, s] : stats) {
-    const cv::Point2d c(s.x_sum / s.area, s.y_sum / s.area);
-    const auto prev = centroid_.find(id);
-    if (consecutive && prev != centroid_.end())
-      blur_px[id] = std::min(p_.blur_max_px, cv::norm(c - prev->second) * blur_exposure_frames_);
-    centroid.emplace(id, c);
-  }
-  centroid_ = std::move(centroid);
+  std::map<int, double> blur_px = DegradeBlurStreaks(stats, consecutive, blur_exposure_frames_, p_.blur_max_px, &centroid_);
   previous_frame_ = frame_index;
   std::vector<Record> recs;
   std::vector<int> static_candidates;
@@ -178,36 +260,15 @@ FrameDetections Degrader::Apply(int frame_index, const GtFrame& gt) {
     const auto bit = blur_px.find(id);
     const double L = bit == blur_px.end() ? 0.0 : bit->second;
     bool& missed = missed_[id];
-    if (missed) {
-      missed = rng.Bernoulli(p_.miss_stay);
-    } else {
-      const double p_blur = std::min(p_.blur_drop_max, p_.blur_drop_per_px * L);
-      missed = rng.Bernoulli(L > 0 ? 1.0 - (1.0 - p_.miss_enter) * (1.0 - p_blur) : p_.miss_enter);
-    }
-    const bool small_miss = s.area < p_.small_area_px && rng.Bernoulli(p_.small_miss);
-    if (missed || small_miss) {
+    bool small_miss = false;
+    if (DegradeDrawMissed(p_, s, L, &missed, rng, &small_miss)) {
       events_.push_back({id, missed ? "missed" : "small-missed", L, 0});
       continue;
     }
     Record r;
     r.gt_id = id;
     r.depth = s.depth_sum / s.area;
-    r.mask = gt.instance_ids == id;
-    if (L > 0 && rng.Bernoulli(std::min(p_.blur_shrink_max, p_.blur_shrink_per_px * L))) {
-      const int radius = int(std::lround(p_.blur_shrink_depth * L));
-      if (radius > 0) {
-        cv::erode(r.mask, r.mask,
-                  cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * radius + 1, 2 * radius + 1)));
-        events_.push_back({id, "shrunk", L, radius});
-      }
-    }
-    if (label.coco_id == 0 && rng.Bernoulli(p_.limb_drop)) {
-      const int limbs[4] = {kForearmL, kForearmR, kShinL, kShinR};
-      const int limb = limbs[rng.UniformInt(0, 3)];
-      r.mask.setTo(0, gt.body_part == limb);
-      if (rng.Bernoulli(0.3)) r.mask.setTo(0, gt.body_part == limb - 2);  // upper arm / thigh too
-    }
-    r.mask = JitterBoundary(r.mask, p_.boundary_jitter_px, uint32_t(rng.NextU64()), rng);
+    r.mask = DegradeMask(p_, gt, id, label, L, rng, &events_);
     if (cv::countNonZero(r.mask) == 0) continue;
     r.det.class_id = label.coco_id;
     if (rng.Bernoulli(label.coco_id == 0 ? p_.person_confusion : p_.confusion)) r.det.class_id = Confuse(label.coco_id, rng);
@@ -215,40 +276,11 @@ FrameDetections Degrader::Apply(int frame_index, const GtFrame& gt) {
     r.det.confidence = p_.name == "ideal" ? 1.0 : rng.Uniform(p_.conf_lo, p_.conf_hi) * (s.area < p_.small_area_px ? 0.8 : 1.0);
     recs.push_back(std::move(r));
   }
-  if (!static_candidates.empty() && rng.Bernoulli(p_.false_positive)) {
-    Record r;
-    r.gt_id = static_candidates[size_t(rng.UniformInt(0, int64_t(static_candidates.size()) - 1))];
-    r.false_positive = true;
-    r.depth = 1e9;  // painted first: any true detection overlapping it wins
-    r.mask = JitterBoundary(gt.instance_ids == r.gt_id, p_.boundary_jitter_px, uint32_t(rng.NextU64()), rng);
-    r.det.class_id = rng.Bernoulli(0.6) ? 0 : Confuse(labels_.at(r.gt_id).coco_id, rng);
-    r.det.class_name = CocoClassName(r.det.class_id);
-    r.det.confidence = rng.Uniform(0.25, 0.45);
-    if (cv::countNonZero(r.mask) > 0) recs.push_back(std::move(r));
-  }
+  DegradeFalsePositive(p_, gt, labels_, static_candidates, rng, &recs);
   // Frame-local ids: ideal keeps the GT ids; degraded modes number 1..n (GT id order, false
   // positive last) as a network would.
   for (size_t i = 0; i < recs.size(); ++i) recs[i].det.id = p_.name == "ideal" ? recs[i].gt_id : int(i + 1);
-  FrameDetections f;
-  f.stamp_text = gt.stamp_text;
-  f.instance_ids = cv::Mat::zeros(gt.instance_ids.size(), CV_16U);
-  std::vector<size_t> order(recs.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return recs[a].depth != recs[b].depth ? recs[a].depth > recs[b].depth : recs[a].gt_id < recs[b].gt_id;
-  });
-  for (size_t i : order) f.instance_ids.setTo(recs[i].det.id, recs[i].mask);
-  for (Record& r : recs) {
-    if (cv::countNonZero(f.instance_ids == r.det.id) == 0) {  // fully overpainted
-      if (!r.false_positive) events_.push_back({r.gt_id, "overpainted", blur_px.count(r.gt_id) ? blur_px[r.gt_id] : 0.0, 0});
-      continue;
-    }
-    BoxFromMask(f.instance_ids == r.det.id, p_.box_jitter_px, rng, &r.det);
-    r.det.has_mask = true;
-    f.instances.push_back(r.det);
-  }
-  std::sort(f.instances.begin(), f.instances.end(),
-            [](const DetectedInstance& a, const DetectedInstance& b) { return a.id < b.id; });
+  FrameDetections f = DegradePaint(p_, gt, recs, blur_px, rng, &events_);
   std::stable_sort(events_.begin(), events_.end(),
                    [](const DegradeEvent& a, const DegradeEvent& b) { return a.gt_id < b.gt_id; });
   return f;

@@ -97,107 +97,147 @@ void BuildPlainRoom(uint64_t seed, Scene* s) {
   s->AddLabel(kFirstStaticId + 4, -1, "crate");
 }
 
-void BuildOffice(uint64_t seed, Scene* s) {
-  Rng rng(seed, "synth.scene");
-  Mesh& m = s->static_mesh;
-  const Rgb white = C(0.85f, 0.85f, 0.82f), dark = C(0.06f, 0.06f, 0.07f);
-  const int carpet = s->AddMaterial(Mat(Pattern::kCarpet, C(0.32f, 0.32f, 0.36f), C(0.42f, 0.38f, 0.34f), dark, 0.5f, rng));
-  const int ceiling = s->AddMaterial(Mat(Pattern::kCeiling, C(0.8f, 0.8f, 0.78f), C(0.55f, 0.55f, 0.55f), dark, 0.6f, rng));
-  const int light = s->AddMaterial(Mat(Pattern::kLight, C(1, 1, 0.97f), C(0.6f, 0.6f, 0.6f), dark, 0.3f, rng, 3.0f));
-  const int wall = s->AddMaterial(Mat(Pattern::kPaint, C(0.78f, 0.75f, 0.68f), white, dark, 1, rng));
-  const int wall2 = s->AddMaterial(Mat(Pattern::kPaint, C(0.62f, 0.70f, 0.74f), white, dark, 1, rng));
-  const int beam = s->AddMaterial(Mat(Pattern::kMetal, C(0.65f, 0.65f, 0.66f), white, dark, 1, rng));
-  const int fabric = s->AddMaterial(Mat(Pattern::kFabric, C(0.30f, 0.36f, 0.45f), white, dark, 1, rng));
-  const int frame = s->AddMaterial(Mat(Pattern::kMetal, C(0.5f, 0.5f, 0.52f), white, dark, 1, rng));
-  const int wood = s->AddMaterial(Mat(Pattern::kWood, C(0.62f, 0.45f, 0.28f), C(0.42f, 0.28f, 0.16f), dark, 1, rng));
-  const int plastic = s->AddMaterial(Mat(Pattern::kFlat, C(0.08f, 0.08f, 0.09f), white, dark, 1, rng));
-  const int grey = s->AddMaterial(Mat(Pattern::kFlat, C(0.55f, 0.56f, 0.58f), white, dark, 1, rng));
-  const int board = s->AddMaterial(Mat(Pattern::kWhiteboard, C(0.93f, 0.93f, 0.92f), C(0.1f, 0.15f, 0.6f), C(0.7f, 0.1f, 0.1f), 1, rng));
-  const int keys = s->AddMaterial(Mat(Pattern::kKeyboard, C(0.2f, 0.2f, 0.22f), C(0.03f, 0.03f, 0.03f), C(0.85f, 0.85f, 0.85f), 1, rng));
-  const int spines = s->AddMaterial(Mat(Pattern::kSpines, C(0.12f, 0.1f, 0.08f), C(0.9f, 0.88f, 0.8f), C(0.8f, 0.7f, 0.1f), 0.035f, rng));
-  const int binders = s->AddMaterial(Mat(Pattern::kSpines, C(0.1f, 0.1f, 0.1f), white, dark, 0.07f, rng));
-  const int plant = s->AddMaterial(Mat(Pattern::kPrint, C(0.12f, 0.35f, 0.12f), C(0.05f, 0.2f, 0.05f), C(0.3f, 0.55f, 0.2f), 0.05f, rng));
-  int id = kFirstStaticId;
+namespace {
 
-  // Room shell: x in [-2.8, 2.8], y in [-2.6, 2.45], z in [0, 2.7].
-  const float X0 = -2.8f, X1 = 2.8f, Y0 = -2.6f, Y1 = 2.45f, H = 2.7f;
-  RoomShell(&m, X0, X1, Y0, Y1, H, carpet, ceiling, wall, wall2);
+// The office's shared materials, drawn from the scene RNG in declaration order.
+struct OfficeMaterials {
+  int carpet, ceiling, light, wall, wall2, beam, fabric, frame, wood, plastic, grey, board, keys, spines, binders, plant;
+};
+
+// State shared by the office building steps: scene, static mesh, scene RNG, next instance id.
+// Room shell: x in [-2.8, 2.8], y in [-2.6, 2.45], z in [0, 2.7].
+struct OfficeBuilder {
+  Scene* s;
+  Mesh& m;
+  Rng& rng;
+  Rgb white, dark;
+  OfficeMaterials mat;
+  int id;
+  float X0 = -2.8f, X1 = 2.8f, Y0 = -2.6f, Y1 = 2.45f, H = 2.7f;
+};
+
+OfficeMaterials OfficeAddMaterials(Scene* s, Rng& rng, const Rgb& white, const Rgb& dark) {
+  OfficeMaterials k;
+  k.carpet = s->AddMaterial(Mat(Pattern::kCarpet, C(0.32f, 0.32f, 0.36f), C(0.42f, 0.38f, 0.34f), dark, 0.5f, rng));
+  k.ceiling = s->AddMaterial(Mat(Pattern::kCeiling, C(0.8f, 0.8f, 0.78f), C(0.55f, 0.55f, 0.55f), dark, 0.6f, rng));
+  k.light = s->AddMaterial(Mat(Pattern::kLight, C(1, 1, 0.97f), C(0.6f, 0.6f, 0.6f), dark, 0.3f, rng, 3.0f));
+  k.wall = s->AddMaterial(Mat(Pattern::kPaint, C(0.78f, 0.75f, 0.68f), white, dark, 1, rng));
+  k.wall2 = s->AddMaterial(Mat(Pattern::kPaint, C(0.62f, 0.70f, 0.74f), white, dark, 1, rng));
+  k.beam = s->AddMaterial(Mat(Pattern::kMetal, C(0.65f, 0.65f, 0.66f), white, dark, 1, rng));
+  k.fabric = s->AddMaterial(Mat(Pattern::kFabric, C(0.30f, 0.36f, 0.45f), white, dark, 1, rng));
+  k.frame = s->AddMaterial(Mat(Pattern::kMetal, C(0.5f, 0.5f, 0.52f), white, dark, 1, rng));
+  k.wood = s->AddMaterial(Mat(Pattern::kWood, C(0.62f, 0.45f, 0.28f), C(0.42f, 0.28f, 0.16f), dark, 1, rng));
+  k.plastic = s->AddMaterial(Mat(Pattern::kFlat, C(0.08f, 0.08f, 0.09f), white, dark, 1, rng));
+  k.grey = s->AddMaterial(Mat(Pattern::kFlat, C(0.55f, 0.56f, 0.58f), white, dark, 1, rng));
+  k.board = s->AddMaterial(Mat(Pattern::kWhiteboard, C(0.93f, 0.93f, 0.92f), C(0.1f, 0.15f, 0.6f), C(0.7f, 0.1f, 0.1f), 1, rng));
+  k.keys = s->AddMaterial(Mat(Pattern::kKeyboard, C(0.2f, 0.2f, 0.22f), C(0.03f, 0.03f, 0.03f), C(0.85f, 0.85f, 0.85f), 1, rng));
+  k.spines = s->AddMaterial(Mat(Pattern::kSpines, C(0.12f, 0.1f, 0.08f), C(0.9f, 0.88f, 0.8f), C(0.8f, 0.7f, 0.1f), 0.035f, rng));
+  k.binders = s->AddMaterial(Mat(Pattern::kSpines, C(0.1f, 0.1f, 0.1f), white, dark, 0.07f, rng));
+  k.plant = s->AddMaterial(Mat(Pattern::kPrint, C(0.12f, 0.35f, 0.12f), C(0.05f, 0.2f, 0.05f), C(0.3f, 0.55f, 0.2f), 0.05f, rng));
+  return k;
+}
+
+// Room shell, skirting boards, ceiling lights and beams.
+void OfficeShell(OfficeBuilder& b) {
+  Mesh& m = b.m;
+  const OfficeMaterials& k = b.mat;
+  const float X0 = b.X0, X1 = b.X1, Y0 = b.Y0, Y1 = b.Y1, H = b.H;
+  RoomShell(&m, X0, X1, Y0, Y1, H, k.carpet, k.ceiling, k.wall, k.wall2);
   // Skirting boards give long straight edges at the floor.
-  m.AddBox(V(X0, Y1 - 0.02f, 0), V(X1, Y1, 0.1f), plastic, 0);
-  m.AddBox(V(X0, Y0, 0), V(X0 + 0.02f, Y1, 0.1f), plastic, 0);
-  m.AddBox(V(X1 - 0.02f, Y0, 0), V(X1, Y1, 0.1f), plastic, 0);
+  m.AddBox(V(X0, Y1 - 0.02f, 0), V(X1, Y1, 0.1f), k.plastic, 0);
+  m.AddBox(V(X0, Y0, 0), V(X0 + 0.02f, Y1, 0.1f), k.plastic, 0);
+  m.AddBox(V(X1 - 0.02f, Y0, 0), V(X1, Y1, 0.1f), k.plastic, 0);
   // Ceiling lights and beams.
   const float lx[3] = {-1.5f, 0.f, 1.5f}, ly[3] = {-1.4f, 0.2f, 1.7f};
   for (float x : lx)
     for (float y : ly) {
-      QuadZ(&m, H - 0.01f, x - 0.3f, x + 0.3f, y - 0.6f, y + 0.6f, light, 0);
-      s->lights.push_back({V(x, y, H - 0.25f), 1.0f});
+      QuadZ(&m, H - 0.01f, x - 0.3f, x + 0.3f, y - 0.6f, y + 0.6f, k.light, 0);
+      b.s->lights.push_back({V(x, y, H - 0.25f), 1.0f});
     }
-  for (float y : {-0.5f, 1.2f}) m.AddBox(V(X0, y - 0.08f, H - 0.22f), V(X1, y + 0.08f, H), beam, 0);
-  m.AddBox(V(-0.08f, Y0, H - 0.18f), V(0.08f, Y1, H), beam, 0);
+  for (float y : {-0.5f, 1.2f}) m.AddBox(V(X0, y - 0.08f, H - 0.22f), V(X1, y + 0.08f, H), k.beam, 0);
+  m.AddBox(V(-0.08f, Y0, H - 0.18f), V(0.08f, Y1, H), k.beam, 0);
+}
 
-  // Back wall: whiteboard, posters, clock; shelves right, cabinet left.
-  m.AddBox(V(-1.0f, Y1 - 0.03f, 0.95f), V(1.0f, Y1, 2.05f), frame, 0);
-  QuadY(&m, Y1 - 0.035f, -0.97f, 0.97f, 0.98f, 2.02f, board, 0);
+// Back wall: whiteboard, posters, clock.
+void OfficeBackWall(OfficeBuilder& b) {
+  Mesh& m = b.m;
+  Scene* s = b.s;
+  Rng& rng = b.rng;
+  const Rgb white = b.white, dark = b.dark;
+  const float Y1 = b.Y1;
+  m.AddBox(V(-1.0f, Y1 - 0.03f, 0.95f), V(1.0f, Y1, 2.05f), b.mat.frame, 0);
+  QuadY(&m, Y1 - 0.035f, -0.97f, 0.97f, 0.98f, 2.02f, b.mat.board, 0);
   for (int i = 0; i < 3; ++i) {
     const float x = -2.55f + 0.55f * float(i);
     const int poster = s->AddMaterial(Mat(Pattern::kPrint, C(0.9f, 0.88f, 0.8f), dark, C(0.7f, 0.2f, 0.1f),
                                           float(rng.Uniform(0.07, 0.14)), rng));
     QuadY(&m, Y1 - 0.01f, x, x + 0.45f, 1.2f + 0.1f * float(i % 2), 1.85f + 0.1f * float(i % 2), poster, 0);
   }
-  {
-    Mesh clock;
-    const int face = s->AddMaterial(Mat(Pattern::kPrint, white, dark, C(0.8f, 0.1f, 0.1f), 0.06f, rng));
-    clock.AddLimb(0.04f, 0.16f, 0.16f, 16, face, s->AddLabel(id++, 74));
-    Eigen::Affine3f T = Eigen::Affine3f::Identity();
-    T.translate(V(1.3f, Y1, 2.25f));
-    T.rotate(Eigen::AngleAxisf(-1.5707963f, V::UnitX()));
-    m.Append(clock, T);
-  }
-  // Shelf: frame + boards + rows of books.
+  Mesh clock;
+  const int face = s->AddMaterial(Mat(Pattern::kPrint, white, dark, C(0.8f, 0.1f, 0.1f), 0.06f, rng));
+  clock.AddLimb(0.04f, 0.16f, 0.16f, 16, face, s->AddLabel(b.id++, 74));
+  Eigen::Affine3f T = Eigen::Affine3f::Identity();
+  T.translate(V(1.3f, Y1, 2.25f));
+  T.rotate(Eigen::AngleAxisf(-1.5707963f, V::UnitX()));
+  m.Append(clock, T);
+}
+
+// Shelf (frame + boards + rows of books) right, cabinet left, potted plant next to the cabinet.
+void OfficeShelvesAndPlant(OfficeBuilder& b) {
+  Mesh& m = b.m;
+  Scene* s = b.s;
+  Rng& rng = b.rng;
+  const OfficeMaterials& k = b.mat;
+  const Rgb white = b.white, dark = b.dark;
+  const float Y1 = b.Y1;
   const float sx0 = 1.25f, sx1 = 2.55f, sy0 = Y1 - 0.38f;
-  m.AddBox(V(sx0, sy0, 0), V(sx0 + 0.03f, Y1, 2.0f), wood, 0);
-  m.AddBox(V(sx1 - 0.03f, sy0, 0), V(sx1, Y1, 2.0f), wood, 0);
-  for (int k = 0; k < 5; ++k) {
-    const float z = 0.05f + 0.48f * float(k);
-    m.AddBox(V(sx0, sy0, z), V(sx1, Y1, z + 0.025f), wood, 0);
-    if (k < 4) {
+  m.AddBox(V(sx0, sy0, 0), V(sx0 + 0.03f, Y1, 2.0f), k.wood, 0);
+  m.AddBox(V(sx1 - 0.03f, sy0, 0), V(sx1, Y1, 2.0f), k.wood, 0);
+  for (int i = 0; i < 5; ++i) {
+    const float z = 0.05f + 0.48f * float(i);
+    m.AddBox(V(sx0, sy0, z), V(sx1, Y1, z + 0.025f), k.wood, 0);
+    if (i < 4) {
       const int row = s->AddMaterial(Mat(Pattern::kSpines, C(0.12f, 0.1f, 0.08f), C(0.9f, 0.88f, 0.8f), C(0.8f, 0.7f, 0.1f),
                                          float(rng.Uniform(0.03, 0.05)), rng));
-      m.AddBoxFront(V(sx0 + 0.04f, sy0 + 0.05f, z + 0.025f), V(sx1 - 0.04f, Y1 - 0.02f, z + 0.025f + 0.26f), plastic,
+      m.AddBoxFront(V(sx0 + 0.04f, sy0 + 0.05f, z + 0.025f), V(sx1 - 0.04f, Y1 - 0.02f, z + 0.025f + 0.26f), k.plastic,
                     row, 0, -1);
     }
   }
-  m.AddBoxFront(V(-2.6f, Y1 - 0.45f, 0), V(-1.7f, Y1, 1.15f), grey, binders, 0, -1);
-  m.AddBox(V(-2.6f, Y1 - 0.45f, 1.15f), V(-1.7f, Y1, 1.18f), wood, 0);
-  m.AddBoxFront(V(-2.5f, Y1 - 0.3f, 1.18f), V(-1.9f, Y1 - 0.05f, 1.45f), plastic, spines, 0, -1);
-  // Potted plant next to the cabinet.
-  {
-    Mesh p;
-    const int pot = s->AddMaterial(Mat(Pattern::kFlat, C(0.6f, 0.3f, 0.15f), white, dark, 1, rng));
-    const int pid = s->AddLabel(id++, 58);
-    p.AddLimb(0.35f, 0.16f, 0.12f, 12, pot, pid);
-    p.AddEllipsoid(V(0, 0, 0.35f), V(0.3f, 0.3f, 0.4f), 12, 8, plant, pid, plant, 1.f);
-    Eigen::Affine3f T = Eigen::Affine3f::Identity();
-    T.translate(V(-2.3f, 1.6f, 0.35f));
-    m.Append(p, T);
-  }
-  // Door and posters on the side walls.
-  m.AddBox(V(X1 - 0.05f, -1.6f, 0), V(X1, -0.7f, 2.1f), wood, 0);
+  m.AddBoxFront(V(-2.6f, Y1 - 0.45f, 0), V(-1.7f, Y1, 1.15f), k.grey, k.binders, 0, -1);
+  m.AddBox(V(-2.6f, Y1 - 0.45f, 1.15f), V(-1.7f, Y1, 1.18f), k.wood, 0);
+  m.AddBoxFront(V(-2.5f, Y1 - 0.3f, 1.18f), V(-1.9f, Y1 - 0.05f, 1.45f), k.plastic, k.spines, 0, -1);
+  Mesh p;
+  const int pot = s->AddMaterial(Mat(Pattern::kFlat, C(0.6f, 0.3f, 0.15f), white, dark, 1, rng));
+  const int pid = s->AddLabel(b.id++, 58);
+  p.AddLimb(0.35f, 0.16f, 0.12f, 12, pot, pid);
+  p.AddEllipsoid(V(0, 0, 0.35f), V(0.3f, 0.3f, 0.4f), 12, 8, k.plant, pid, k.plant, 1.f);
+  Eigen::Affine3f T = Eigen::Affine3f::Identity();
+  T.translate(V(-2.3f, 1.6f, 0.35f));
+  m.Append(p, T);
+}
+
+// Door and posters on the side walls; cubicle partitions (back panel at y = 1.85..1.9, side
+// panels at x = +-1.6) with papers pinned.
+void OfficeSideWallsAndPartitions(OfficeBuilder& b) {
+  Mesh& m = b.m;
+  Scene* s = b.s;
+  Rng& rng = b.rng;
+  const OfficeMaterials& k = b.mat;
+  const Rgb white = b.white, dark = b.dark;
+  const float X0 = b.X0, X1 = b.X1;
+  m.AddBox(V(X1 - 0.05f, -1.6f, 0), V(X1, -0.7f, 2.1f), k.wood, 0);
   for (int i = 0; i < 2; ++i) {
     const int poster = s->AddMaterial(Mat(Pattern::kPrint, C(0.15f, 0.2f, 0.3f), white, C(0.9f, 0.7f, 0.2f),
                                           float(rng.Uniform(0.08, 0.15)), rng));
     QuadX(&m, X0 + 0.01f, -0.4f + 1.3f * float(i), 0.4f + 1.3f * float(i), 1.1f, 1.9f, poster, 0);
     QuadX(&m, X1 - 0.01f, 0.2f + 1.1f * float(i), 0.9f + 1.1f * float(i), 1.2f, 1.8f, poster, 0);
   }
-
-  // Cubicle partitions: back panel at y = 1.85..1.9, side panels at x = +-1.6, papers pinned.
   const float py0 = 1.85f, py1 = 1.9f, ph = 1.35f;
-  m.AddBox(V(-2.0f, py0, 0), V(2.0f, py1, ph), fabric, 0);
-  m.AddBox(V(-2.0f, py0 - 0.01f, ph), V(2.0f, py1 + 0.01f, ph + 0.03f), frame, 0);
+  m.AddBox(V(-2.0f, py0, 0), V(2.0f, py1, ph), k.fabric, 0);
+  m.AddBox(V(-2.0f, py0 - 0.01f, ph), V(2.0f, py1 + 0.01f, ph + 0.03f), k.frame, 0);
   for (float x : {-1.65f, 1.6f}) {
-    m.AddBox(V(x, 0.9f, 0), V(x + 0.05f, py0, ph), fabric, 0);
-    m.AddBox(V(x - 0.01f, 0.9f, ph), V(x + 0.06f, py0, ph + 0.03f), frame, 0);
+    m.AddBox(V(x, 0.9f, 0), V(x + 0.05f, py0, ph), k.fabric, 0);
+    m.AddBox(V(x - 0.01f, 0.9f, ph), V(x + 0.06f, py0, ph + 0.03f), k.frame, 0);
   }
   for (int i = 0; i < 9; ++i) {
     const float x = -1.55f + 0.36f * float(i) + float(rng.Uniform(-0.05, 0.05));
@@ -206,80 +246,112 @@ void BuildOffice(uint64_t seed, Scene* s) {
                                          float(rng.Uniform(0.04, 0.07)), rng));
     QuadY(&m, py0 - 0.005f, x, x + 0.21f, z, z + 0.28f, paper, 0);
   }
+}
 
+// Desk d's desk body and its monitors, keyboards and mice.
+void OfficeDeskAndMonitors(OfficeBuilder& b, int d, float x0, float x1, float xc) {
+  Mesh& m = b.m;
+  Scene* s = b.s;
+  Rng& rng = b.rng;
+  const OfficeMaterials& k = b.mat;
+  const int desk = s->AddLabel(b.id++, 60);
+  m.AddBox(V(x0, 1.0f, 0.70f), V(x1, 1.8f, 0.74f), k.wood, desk);
+  m.AddBox(V(x0 + 0.02f, 1.05f, 0), V(x0 + 0.05f, 1.78f, 0.70f), k.grey, desk);
+  m.AddBox(V(x1 - 0.05f, 1.05f, 0), V(x1 - 0.02f, 1.78f, 0.70f), k.grey, desk);
+  m.AddBox(V(x0 + 0.05f, 1.7f, 0.25f), V(x1 - 0.05f, 1.73f, 0.70f), k.grey, desk);
+  for (int i = 0; i < (d == 0 ? 1 : 2); ++i) {
+    const float mx = d == 0 ? xc + 0.2f : xc - 0.33f + 0.66f * float(i);
+    const int mon = s->AddLabel(b.id++, 62);
+    const int screen = s->AddMaterial(Mat(Pattern::kPrint, C(0.12f, 0.14f, 0.2f), C(0.85f, 0.85f, 0.85f),
+                                          C(0.3f, 0.6f, 0.9f), float(rng.Uniform(0.05, 0.09)), rng, 0.6f));
+    m.AddBox(V(mx - 0.12f, 1.45f, 0.74f), V(mx + 0.12f, 1.62f, 0.76f), k.plastic, mon);
+    m.AddBox(V(mx - 0.03f, 1.55f, 0.76f), V(mx + 0.03f, 1.58f, 0.95f), k.plastic, mon);
+    m.AddBoxFront(V(mx - 0.3f, 1.5f, 0.88f), V(mx + 0.3f, 1.55f, 1.24f), k.plastic, k.plastic, mon, -1);
+    QuadY(&m, 1.499f, mx - 0.28f, mx + 0.28f, 0.9f, 1.22f, screen, mon);
+    const int kb = s->AddLabel(b.id++, 66);
+    m.AddBox(V(mx - 0.22f, 1.12f, 0.74f), V(mx + 0.22f, 1.28f, 0.76f), k.plastic, kb);
+    QuadZ(&m, 0.7605f, mx - 0.215f, mx + 0.215f, 1.125f, 1.275f, k.keys, kb);
+    const int mouse = s->AddLabel(b.id++, 64);
+    m.AddBox(V(mx + 0.3f, 1.15f, 0.74f), V(mx + 0.36f, 1.25f, 0.77f), k.grey, mouse);
+  }
+}
+
+// Desk d's books (a stack and a few upright ones), cup and paper.
+void OfficeDeskItems(OfficeBuilder& b, int d, float x0, float x1, float xc) {
+  Mesh& m = b.m;
+  Scene* s = b.s;
+  Rng& rng = b.rng;
+  const Rgb white = b.white, dark = b.dark;
+  float z = 0.74f;
+  for (int i = 0; i < 4; ++i) {
+    const int book = s->AddLabel(b.id++, 73);
+    const float w = float(rng.Uniform(0.17, 0.25)), dd = float(rng.Uniform(0.22, 0.3)), t = float(rng.Uniform(0.025, 0.05));
+    const int cover = s->AddMaterial(Mat(Pattern::kPrint, C(float(rng.Uniform(0.1, 0.9)), float(rng.Uniform(0.1, 0.9)),
+                                                             float(rng.Uniform(0.1, 0.9))), dark, white,
+                                         float(rng.Uniform(0.04, 0.08)), rng));
+    const float bx = (d == 0 ? x0 + 0.15f : x1 - 0.4f) + float(rng.Uniform(-0.03, 0.03));
+    m.AddBoxFront(V(bx, 1.3f, z), V(bx + w, 1.3f + dd, z + t), cover, cover, book, -1);
+    QuadZ(&m, z + t + 0.0005f, bx, bx + w, 1.3f, 1.3f + dd, cover, book);
+    z += t;
+  }
+  for (int i = 0; i < 5; ++i) {
+    const int book = s->AddLabel(b.id++, 73);
+    const int cover = s->AddMaterial(Mat(Pattern::kSpines, C(float(rng.Uniform(0.1, 0.8)), 0.2f, 0.3f), white, C(0.9f, 0.8f, 0.1f),
+                                         0.05f, rng));
+    const float bx = (d == 0 ? x1 - 0.45f : x0 + 0.12f) + 0.045f * float(i);
+    const float hb = float(rng.Uniform(0.2, 0.28));
+    m.AddBoxFront(V(bx, 1.62f, 0.74f), V(bx + 0.04f, 1.8f, 0.74f + hb), cover, cover, book, -1);
+  }
+  const int cup = s->AddLabel(b.id++, 41);
+  const int mug = s->AddMaterial(Mat(Pattern::kPrint, white, C(0.7f, 0.1f, 0.1f), dark, 0.03f, rng));
+  Mesh c;
+  c.AddLimb(0.1f, 0.04f, 0.037f, 12, mug, cup);
+  Eigen::Affine3f T = Eigen::Affine3f::Identity();
+  T.translate(V(d == 0 ? xc - 0.35f : xc + 0.05f, 1.1f, 0.84f));
+  m.Append(c, T);
+  const int paper = s->AddMaterial(Mat(Pattern::kPrint, C(0.93f, 0.93f, 0.9f), dark, C(0.6f, 0.1f, 0.1f), 0.05f, rng));
+  QuadZ(&m, 0.7405f, xc - 0.1f, xc + 0.11f, 1.02f, 1.1f + 0.2f * float(d), paper, 0);
+}
+
+// The laptop on the left desk.
+void OfficeLaptop(OfficeBuilder& b) {
+  Scene* s = b.s;
+  const int lap = s->AddLabel(b.id++, 63);
+  const int lscreen = s->AddMaterial(Mat(Pattern::kPrint, C(0.9f, 0.9f, 0.92f), C(0.1f, 0.1f, 0.2f), C(0.9f, 0.4f, 0.1f),
+                                         0.05f, b.rng, 0.5f));
+  Mesh l;
+  l.AddBox(V(-0.17f, -0.12f, 0), V(0.17f, 0.12f, 0.02f), b.mat.grey, lap);
+  QuadZ(&l, 0.0205f, -0.15f, 0.15f, -0.1f, 0.05f, b.mat.keys, lap);
+  Mesh scr;
+  scr.AddBox(V(-0.17f, 0, 0), V(0.17f, 0.01f, 0.23f), b.mat.grey, lap);
+  QuadY(&scr, -0.001f, -0.155f, 0.155f, 0.015f, 0.215f, lscreen, lap);
+  Eigen::Affine3f Ts = Eigen::Affine3f::Identity();
+  Ts.translate(V(0, 0.12f, 0.02f));
+  Ts.rotate(Eigen::AngleAxisf(-0.3f, V::UnitX()));
+  l.Append(scr, Ts);
+  Eigen::Affine3f T = Eigen::Affine3f::Identity();
+  T.translate(V(-1.2f, 1.3f, 0.74f));
+  T.rotate(Eigen::AngleAxisf(0.25f, V::UnitZ()));
+  b.m.Append(l, T);
+}
+
+}  // namespace
+
+void BuildOffice(uint64_t seed, Scene* s) {
+  Rng rng(seed, "synth.scene");
+  const Rgb white = C(0.85f, 0.85f, 0.82f), dark = C(0.06f, 0.06f, 0.07f);
+  OfficeBuilder b{s, s->static_mesh, rng, white, dark, OfficeAddMaterials(s, rng, white, dark), kFirstStaticId};
+  OfficeShell(b);
+  OfficeBackWall(b);
+  OfficeShelvesAndPlant(b);
+  OfficeSideWallsAndPartitions(b);
   // Two desks with monitors, keyboards, mice, books, cups; a laptop on the left one.
   for (int d = 0; d < 2; ++d) {
     const float x0 = d == 0 ? -1.55f : 0.03f, x1 = d == 0 ? -0.03f : 1.55f, xc = 0.5f * (x0 + x1);
-    const int desk = s->AddLabel(id++, 60);
-    m.AddBox(V(x0, 1.0f, 0.70f), V(x1, 1.8f, 0.74f), wood, desk);
-    m.AddBox(V(x0 + 0.02f, 1.05f, 0), V(x0 + 0.05f, 1.78f, 0.70f), grey, desk);
-    m.AddBox(V(x1 - 0.05f, 1.05f, 0), V(x1 - 0.02f, 1.78f, 0.70f), grey, desk);
-    m.AddBox(V(x0 + 0.05f, 1.7f, 0.25f), V(x1 - 0.05f, 1.73f, 0.70f), grey, desk);
-    for (int k = 0; k < (d == 0 ? 1 : 2); ++k) {
-      const float mx = d == 0 ? xc + 0.2f : xc - 0.33f + 0.66f * float(k);
-      const int mon = s->AddLabel(id++, 62);
-      const int screen = s->AddMaterial(Mat(Pattern::kPrint, C(0.12f, 0.14f, 0.2f), C(0.85f, 0.85f, 0.85f),
-                                            C(0.3f, 0.6f, 0.9f), float(rng.Uniform(0.05, 0.09)), rng, 0.6f));
-      m.AddBox(V(mx - 0.12f, 1.45f, 0.74f), V(mx + 0.12f, 1.62f, 0.76f), plastic, mon);
-      m.AddBox(V(mx - 0.03f, 1.55f, 0.76f), V(mx + 0.03f, 1.58f, 0.95f), plastic, mon);
-      m.AddBoxFront(V(mx - 0.3f, 1.5f, 0.88f), V(mx + 0.3f, 1.55f, 1.24f), plastic, plastic, mon, -1);
-      QuadY(&m, 1.499f, mx - 0.28f, mx + 0.28f, 0.9f, 1.22f, screen, mon);
-      const int kb = s->AddLabel(id++, 66);
-      m.AddBox(V(mx - 0.22f, 1.12f, 0.74f), V(mx + 0.22f, 1.28f, 0.76f), plastic, kb);
-      QuadZ(&m, 0.7605f, mx - 0.215f, mx + 0.215f, 1.125f, 1.275f, keys, kb);
-      const int mouse = s->AddLabel(id++, 64);
-      m.AddBox(V(mx + 0.3f, 1.15f, 0.74f), V(mx + 0.36f, 1.25f, 0.77f), grey, mouse);
-    }
-    // Books: a stack and a few upright ones.
-    float z = 0.74f;
-    for (int b = 0; b < 4; ++b) {
-      const int book = s->AddLabel(id++, 73);
-      const float w = float(rng.Uniform(0.17, 0.25)), dd = float(rng.Uniform(0.22, 0.3)), t = float(rng.Uniform(0.025, 0.05));
-      const int cover = s->AddMaterial(Mat(Pattern::kPrint, C(float(rng.Uniform(0.1, 0.9)), float(rng.Uniform(0.1, 0.9)),
-                                                               float(rng.Uniform(0.1, 0.9))), dark, white,
-                                           float(rng.Uniform(0.04, 0.08)), rng));
-      const float bx = (d == 0 ? x0 + 0.15f : x1 - 0.4f) + float(rng.Uniform(-0.03, 0.03));
-      m.AddBoxFront(V(bx, 1.3f, z), V(bx + w, 1.3f + dd, z + t), cover, cover, book, -1);
-      QuadZ(&m, z + t + 0.0005f, bx, bx + w, 1.3f, 1.3f + dd, cover, book);
-      z += t;
-    }
-    for (int b = 0; b < 5; ++b) {
-      const int book = s->AddLabel(id++, 73);
-      const int cover = s->AddMaterial(Mat(Pattern::kSpines, C(float(rng.Uniform(0.1, 0.8)), 0.2f, 0.3f), white, C(0.9f, 0.8f, 0.1f),
-                                           0.05f, rng));
-      const float bx = (d == 0 ? x1 - 0.45f : x0 + 0.12f) + 0.045f * float(b);
-      const float hb = float(rng.Uniform(0.2, 0.28));
-      m.AddBoxFront(V(bx, 1.62f, 0.74f), V(bx + 0.04f, 1.8f, 0.74f + hb), cover, cover, book, -1);
-    }
-    const int cup = s->AddLabel(id++, 41);
-    const int mug = s->AddMaterial(Mat(Pattern::kPrint, white, C(0.7f, 0.1f, 0.1f), dark, 0.03f, rng));
-    Mesh c;
-    c.AddLimb(0.1f, 0.04f, 0.037f, 12, mug, cup);
-    Eigen::Affine3f T = Eigen::Affine3f::Identity();
-    T.translate(V(d == 0 ? xc - 0.35f : xc + 0.05f, 1.1f, 0.84f));
-    m.Append(c, T);
-    const int paper = s->AddMaterial(Mat(Pattern::kPrint, C(0.93f, 0.93f, 0.9f), dark, C(0.6f, 0.1f, 0.1f), 0.05f, rng));
-    QuadZ(&m, 0.7405f, xc - 0.1f, xc + 0.11f, 1.02f, 1.1f + 0.2f * float(d), paper, 0);
+    OfficeDeskAndMonitors(b, d, x0, x1, xc);
+    OfficeDeskItems(b, d, x0, x1, xc);
   }
-  {
-    const int lap = s->AddLabel(id++, 63);
-    const int lscreen = s->AddMaterial(Mat(Pattern::kPrint, C(0.9f, 0.9f, 0.92f), C(0.1f, 0.1f, 0.2f), C(0.9f, 0.4f, 0.1f),
-                                           0.05f, rng, 0.5f));
-    Mesh l;
-    l.AddBox(V(-0.17f, -0.12f, 0), V(0.17f, 0.12f, 0.02f), grey, lap);
-    QuadZ(&l, 0.0205f, -0.15f, 0.15f, -0.1f, 0.05f, keys, lap);
-    Mesh scr;
-    scr.AddBox(V(-0.17f, 0, 0), V(0.17f, 0.01f, 0.23f), grey, lap);
-    QuadY(&scr, -0.001f, -0.155f, 0.155f, 0.015f, 0.215f, lscreen, lap);
-    Eigen::Affine3f Ts = Eigen::Affine3f::Identity();
-    Ts.translate(V(0, 0.12f, 0.02f));
-    Ts.rotate(Eigen::AngleAxisf(-0.3f, V::UnitX()));
-    l.Append(scr, Ts);
-    Eigen::Affine3f T = Eigen::Affine3f::Identity();
-    T.translate(V(-1.2f, 1.3f, 0.74f));
-    T.rotate(Eigen::AngleAxisf(0.25f, V::UnitZ()));
-    m.Append(l, T);
-  }
+  OfficeLaptop(b);
 }
 
 Mesh BuildChairMesh(Scene* s, uint64_t seed, int variant) {

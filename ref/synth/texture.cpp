@@ -82,120 +82,153 @@ Rgb Print(const Material& m, float u, float v) {
   }
 }
 
+Rgb AlbedoCarpet(const Material& m, float u, float v) {
+  const int32_t tu = int32_t(std::floor(u / m.scale)), tv = int32_t(std::floor(v / m.scale));
+  Rgb c = Mix(m.c0, m.c1, Hash01(tu, tv, m.seed) < 0.5f ? 0.f : 0.6f);
+  const float speck = Hash01(int32_t(std::floor(u * 90)), int32_t(std::floor(v * 90)), m.seed + 1);
+  const float blot = ValueNoise(u * 6, v * 6, m.seed + 2);
+  c = c * (0.55f + 0.7f * speck) * (0.8f + 0.4f * blot);
+  if (FracF(u / m.scale) < 0.01f || FracF(v / m.scale) < 0.01f) c = c * 0.5f;
+  return c;
+}
+
+Rgb AlbedoWood(const Material& m, float u, float v) {
+  const float t = v * 45.f + 6.f * ValueNoise(u * 3.f, v * 10.f, m.seed);
+  const float g = 0.5f + 0.5f * std::sin(t);
+  const float knot = ValueNoise(u * 12.f, v * 30.f, m.seed + 5);
+  return Mix(m.c0, m.c1, g * g * g) * (0.8f + 0.35f * knot);
+}
+
+Rgb AlbedoCeiling(const Material& m, float u, float v) {
+  const float fu = FracF(u / m.scale), fv = FracF(v / m.scale);
+  if (fu < 0.03f || fv < 0.03f) return m.c1;
+  const float p = Hash01(int32_t(std::floor(u * 120)), int32_t(std::floor(v * 120)), m.seed);
+  return m.c0 * (0.85f + 0.2f * p);
+}
+
+Rgb AlbedoWhiteboard(const Material& m, float u, float v) {
+  const int32_t row = int32_t(std::floor(v / 0.07f));
+  const uint32_t h = Hash3(row, 0, m.seed);
+  const float x0 = float(h & 255u) / 255.f * 0.8f, len = 0.2f + float((h >> 8) & 255u) / 255.f * 0.9f;
+  const float off = FracF(v / 0.07f) - 0.5f - 0.18f * std::sin(u * 37.f + float(h & 7u));
+  if ((h >> 20) % 3 != 0 && u > x0 && u < x0 + len && std::fabs(off) < 0.09f)
+    return (h >> 24) & 1u ? m.c1 : m.c2;
+  return m.c0 * (0.96f + 0.04f * ValueNoise(u * 5, v * 5, m.seed));
+}
+
+Rgb AlbedoSpines(const Material& m, float u, float v) {
+  const float cu = u / m.scale;
+  const int32_t i = int32_t(std::floor(cu));
+  const float f = cu - float(i);
+  const uint32_t h = Hash3(i, 0, m.seed);
+  if (f < 0.07f) return Palette(h) * 0.25f;
+  const float height = 0.75f + 0.25f * float((h >> 4) & 255u) / 255.f;
+  if (v > height * 0.24f) return m.c0;  // gap above shorter books
+  Rgb c = Palette(h >> 8);
+  const float band = v / 0.24f;
+  if (band > 0.55f && band < 0.7f) c = m.c1;
+  if (band > 0.15f && band < 0.2f) c = m.c2;
+  return c;
+}
+
+Rgb AlbedoKeyboard(const Material& m, float u, float v) {
+  const float ku = FracF(u / 0.019f), kv = FracF(v / 0.019f);
+  if (ku < 0.14f || kv < 0.14f) return m.c1;
+  const uint32_t h = Hash3(int32_t(std::floor(u / 0.019f)), int32_t(std::floor(v / 0.019f)), m.seed);
+  if (std::fabs(ku - 0.57f) < 0.13f && std::fabs(kv - 0.57f) < 0.16f && (h & 1u)) return m.c2;
+  return m.c0;
+}
+
+Rgb AlbedoStripes(const Material& m, float u, float v) {
+  const int32_t band = int32_t(std::floor(v / m.scale));
+  const bool odd = (band & 1) != 0;
+  if (!odd) return m.c0 * (0.9f + 0.1f * ValueNoise(u * 30, v * 30, m.seed));
+  const float f = FracF(u / (m.scale * 1.6f));
+  if (Hash01(band, 7, m.seed) < 0.5f && f < 0.45f) return m.c2;
+  return m.c1;
+}
+
+Rgb AlbedoChecks(const Material& m, float u, float v) {
+  const float fu = FracF(u / m.scale), fv = FracF(v / m.scale);
+  const bool a = fu < 0.5f, b = fv < 0.5f;
+  Rgb c = (a && b) ? m.c1 : ((a || b) ? Mix(m.c0, m.c1, 0.45f) : m.c0);
+  if (std::fabs(fu - 0.75f) < 0.04f || std::fabs(fv - 0.75f) < 0.04f) c = m.c2;
+  return c;
+}
+
+Rgb AlbedoDenim(const Material& m, float u, float v) {
+  const float tw = Hash01(int32_t(std::floor((u + v) * 300)), int32_t(std::floor((u - v) * 60)), m.seed);
+  const float fade = ValueNoise(u * 9, v * 4, m.seed + 1);
+  Rgb c = Mix(m.c0, m.c1, 0.6f * fade) * (0.8f + 0.3f * tw);
+  if (FracF(v / m.scale) < 0.04f) c = m.c2;  // seams/pockets at a coarse period
+  return c;
+}
+
+Rgb AlbedoSkin(const Material& m, float u, float v) {
+  float du = std::fmod(u, m.scale);
+  if (du > 0.5f * m.scale) du -= m.scale;
+  const float ex = std::fabs(du) - 0.033f, ey = v - 0.15f;
+  if (ex * ex / 0.00012f + ey * ey / 0.00005f < 1.f) return m.c2;            // eyes
+  if (std::fabs(du) < 0.05f && std::fabs(v - 0.133f) < 0.005f && std::fabs(du) > 0.015f)
+    return m.c1 * 0.6f;                                                       // brows
+  if (std::fabs(du) < 0.024f && std::fabs(v - 0.245f) < 0.006f) return {0.55f, 0.18f, 0.16f};  // mouth
+  return m.c0 * (0.92f + 0.1f * ValueNoise(u * 40, v * 40, m.seed));
+}
+
+Rgb AlbedoCardboard(const Material& m, float u, float v) {
+  Rgb c = m.c0 * (0.85f + 0.25f * ValueNoise(u * 15, v * 15, m.seed));
+  const float fv = FracF(v / m.scale), fu = FracF(u / m.scale);
+  if (std::fabs(fv - 0.5f) < 0.07f) c = m.c1;
+  if (fu > 0.1f && fu < 0.4f && fv > 0.65f && fv < 0.9f) {
+    const int32_t row = int32_t((fv - 0.65f) / 0.05f);
+    c = (FracF((fv - 0.65f) / 0.05f) < 0.5f && Hash01(int32_t(fu * 20), row, m.seed) < 0.7f) ? m.c2
+                                                                                         : Rgb{0.9f, 0.9f, 0.88f};
+  }
+  return c;
+}
+
 }  // namespace
 
 Rgb Albedo(const Material& m, float u, float v) {
   switch (m.pattern) {
     case Pattern::kFlat:
       return m.c0 * (0.95f + 0.1f * ValueNoise(u * 20, v * 20, m.seed));
-    case Pattern::kCarpet: {
-      const int32_t tu = int32_t(std::floor(u / m.scale)), tv = int32_t(std::floor(v / m.scale));
-      Rgb c = Mix(m.c0, m.c1, Hash01(tu, tv, m.seed) < 0.5f ? 0.f : 0.6f);
-      const float speck = Hash01(int32_t(std::floor(u * 90)), int32_t(std::floor(v * 90)), m.seed + 1);
-      const float blot = ValueNoise(u * 6, v * 6, m.seed + 2);
-      c = c * (0.55f + 0.7f * speck) * (0.8f + 0.4f * blot);
-      if (FracF(u / m.scale) < 0.01f || FracF(v / m.scale) < 0.01f) c = c * 0.5f;
-      return c;
-    }
-    case Pattern::kWood: {
-      const float t = v * 45.f + 6.f * ValueNoise(u * 3.f, v * 10.f, m.seed);
-      const float g = 0.5f + 0.5f * std::sin(t);
-      const float knot = ValueNoise(u * 12.f, v * 30.f, m.seed + 5);
-      return Mix(m.c0, m.c1, g * g * g) * (0.8f + 0.35f * knot);
-    }
+    case Pattern::kCarpet:
+      return AlbedoCarpet(m, u, v);
+    case Pattern::kWood:
+      return AlbedoWood(m, u, v);
     case Pattern::kFabric: {
       const float n = Hash01(int32_t(std::floor(u * 250)), int32_t(std::floor(v * 250)), m.seed);
       return m.c0 * (0.8f + 0.25f * n + 0.2f * ValueNoise(u * 8, v * 8, m.seed + 1));
     }
     case Pattern::kPaint:
       return m.c0 * (0.9f + 0.1f * ValueNoise(u * 3, v * 3, m.seed) + 0.05f * ValueNoise(u * 40, v * 40, m.seed + 3));
-    case Pattern::kCeiling: {
-      const float fu = FracF(u / m.scale), fv = FracF(v / m.scale);
-      if (fu < 0.03f || fv < 0.03f) return m.c1;
-      const float p = Hash01(int32_t(std::floor(u * 120)), int32_t(std::floor(v * 120)), m.seed);
-      return m.c0 * (0.85f + 0.2f * p);
-    }
+    case Pattern::kCeiling:
+      return AlbedoCeiling(m, u, v);
     case Pattern::kLight: {
       const float fu = FracF(u / m.scale), fv = FracF(v / m.scale);
       return (fu < 0.04f || fv < 0.04f) ? m.c1 : m.c0;
     }
     case Pattern::kPrint:
       return Print(m, u, v);
-    case Pattern::kWhiteboard: {
-      const int32_t row = int32_t(std::floor(v / 0.07f));
-      const uint32_t h = Hash3(row, 0, m.seed);
-      const float x0 = float(h & 255u) / 255.f * 0.8f, len = 0.2f + float((h >> 8) & 255u) / 255.f * 0.9f;
-      const float off = FracF(v / 0.07f) - 0.5f - 0.18f * std::sin(u * 37.f + float(h & 7u));
-      if ((h >> 20) % 3 != 0 && u > x0 && u < x0 + len && std::fabs(off) < 0.09f)
-        return (h >> 24) & 1u ? m.c1 : m.c2;
-      return m.c0 * (0.96f + 0.04f * ValueNoise(u * 5, v * 5, m.seed));
-    }
-    case Pattern::kSpines: {
-      const float cu = u / m.scale;
-      const int32_t i = int32_t(std::floor(cu));
-      const float f = cu - float(i);
-      const uint32_t h = Hash3(i, 0, m.seed);
-      if (f < 0.07f) return Palette(h) * 0.25f;
-      const float height = 0.75f + 0.25f * float((h >> 4) & 255u) / 255.f;
-      if (v > height * 0.24f) return m.c0;  // gap above shorter books
-      Rgb c = Palette(h >> 8);
-      const float band = v / 0.24f;
-      if (band > 0.55f && band < 0.7f) c = m.c1;
-      if (band > 0.15f && band < 0.2f) c = m.c2;
-      return c;
-    }
-    case Pattern::kKeyboard: {
-      const float ku = FracF(u / 0.019f), kv = FracF(v / 0.019f);
-      if (ku < 0.14f || kv < 0.14f) return m.c1;
-      const uint32_t h = Hash3(int32_t(std::floor(u / 0.019f)), int32_t(std::floor(v / 0.019f)), m.seed);
-      if (std::fabs(ku - 0.57f) < 0.13f && std::fabs(kv - 0.57f) < 0.16f && (h & 1u)) return m.c2;
-      return m.c0;
-    }
-    case Pattern::kStripes: {
-      const int32_t band = int32_t(std::floor(v / m.scale));
-      const bool odd = (band & 1) != 0;
-      if (!odd) return m.c0 * (0.9f + 0.1f * ValueNoise(u * 30, v * 30, m.seed));
-      const float f = FracF(u / (m.scale * 1.6f));
-      if (Hash01(band, 7, m.seed) < 0.5f && f < 0.45f) return m.c2;
-      return m.c1;
-    }
-    case Pattern::kChecks: {
-      const float fu = FracF(u / m.scale), fv = FracF(v / m.scale);
-      const bool a = fu < 0.5f, b = fv < 0.5f;
-      Rgb c = (a && b) ? m.c1 : ((a || b) ? Mix(m.c0, m.c1, 0.45f) : m.c0);
-      if (std::fabs(fu - 0.75f) < 0.04f || std::fabs(fv - 0.75f) < 0.04f) c = m.c2;
-      return c;
-    }
-    case Pattern::kDenim: {
-      const float tw = Hash01(int32_t(std::floor((u + v) * 300)), int32_t(std::floor((u - v) * 60)), m.seed);
-      const float fade = ValueNoise(u * 9, v * 4, m.seed + 1);
-      Rgb c = Mix(m.c0, m.c1, 0.6f * fade) * (0.8f + 0.3f * tw);
-      if (FracF(v / m.scale) < 0.04f) c = m.c2;  // seams/pockets at a coarse period
-      return c;
-    }
-    case Pattern::kSkin: {
-      float du = std::fmod(u, m.scale);
-      if (du > 0.5f * m.scale) du -= m.scale;
-      const float ex = std::fabs(du) - 0.033f, ey = v - 0.15f;
-      if (ex * ex / 0.00012f + ey * ey / 0.00005f < 1.f) return m.c2;            // eyes
-      if (std::fabs(du) < 0.05f && std::fabs(v - 0.133f) < 0.005f && std::fabs(du) > 0.015f)
-        return m.c1 * 0.6f;                                                       // brows
-      if (std::fabs(du) < 0.024f && std::fabs(v - 0.245f) < 0.006f) return {0.55f, 0.18f, 0.16f};  // mouth
-      return m.c0 * (0.92f + 0.1f * ValueNoise(u * 40, v * 40, m.seed));
-    }
+    case Pattern::kWhiteboard:
+      return AlbedoWhiteboard(m, u, v);
+    case Pattern::kSpines:
+      return AlbedoSpines(m, u, v);
+    case Pattern::kKeyboard:
+      return AlbedoKeyboard(m, u, v);
+    case Pattern::kStripes:
+      return AlbedoStripes(m, u, v);
+    case Pattern::kChecks:
+      return AlbedoChecks(m, u, v);
+    case Pattern::kDenim:
+      return AlbedoDenim(m, u, v);
+    case Pattern::kSkin:
+      return AlbedoSkin(m, u, v);
     case Pattern::kHair:
       return m.c0 * (0.7f + 0.6f * Hash01(int32_t(std::floor(u * 300)), int32_t(std::floor(v * 30)), m.seed));
-    case Pattern::kCardboard: {
-      Rgb c = m.c0 * (0.85f + 0.25f * ValueNoise(u * 15, v * 15, m.seed));
-      const float fv = FracF(v / m.scale), fu = FracF(u / m.scale);
-      if (std::fabs(fv - 0.5f) < 0.07f) c = m.c1;
-      if (fu > 0.1f && fu < 0.4f && fv > 0.65f && fv < 0.9f) {
-        const int32_t row = int32_t((fv - 0.65f) / 0.05f);
-        c = (FracF((fv - 0.65f) / 0.05f) < 0.5f && Hash01(int32_t(fu * 20), row, m.seed) < 0.7f) ? m.c2
-                                                                                             : Rgb{0.9f, 0.9f, 0.88f};
-      }
-      return c;
-    }
+    case Pattern::kCardboard:
+      return AlbedoCardboard(m, u, v);
     case Pattern::kMetal:
       return m.c0 * (0.85f + 0.2f * Hash01(int32_t(std::floor(u * 500)), int32_t(std::floor(v * 20)), m.seed));
   }

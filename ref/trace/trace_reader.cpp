@@ -133,6 +133,106 @@ uint32_t LoadU32(const char* p) {
   return v;
 }
 
+// A string-table reference (varint id) in a frame block.
+const std::string& ReadStringRef(Cursor& c, const std::vector<std::string>& strings) {
+  const uint64_t id = c.Varint();
+  if (id >= strings.size()) c.Fail("string id " + std::to_string(id) + " not in the table");
+  return strings[id];
+}
+
+EntityKind ReadEntityKind(Cursor& c) {
+  const uint8_t kind = c.U8();
+  if (kind > static_cast<uint8_t>(EntityKind::kFrame)) c.Fail("bad entity kind");
+  return static_cast<EntityKind>(kind);
+}
+
+void ReadObservationBody(Cursor& c, int schema_version, Record* r) {
+  r->type = RecordType::kObservation;
+  r->feature_index = c.SVarint();
+  r->map_point_id = c.SVarint();
+  // Schema 3 adds the association the stages saw; before it, the final one is all there is.
+  r->associated_map_point_id = schema_version >= 3 ? c.SVarint() : r->map_point_id;
+  r->u = c.F64();
+  r->v = c.F64();
+  r->depth_m = c.F64();
+  r->octave = c.SVarint();
+  r->descriptor_hash = c.Fixed64();
+}
+
+void ReadProbabilityBody(Cursor& c, const std::vector<std::string>& strings, Record* r) {
+  r->type = RecordType::kProbability;
+  r->stage = ReadStringRef(c, strings);
+  r->kind = ReadEntityKind(c);
+  r->entity = c.Str();
+  const uint64_t n = c.Varint();
+  for (uint64_t i = 0; i < n; ++i) {
+    NamedValue nv;
+    nv.name = ReadStringRef(c, strings);
+    nv.value = c.F64();
+    r->inputs.push_back(std::move(nv));
+  }
+  r->before = c.F64();
+  r->after = c.F64();
+}
+
+void ReadResidualBody(Cursor& c, const std::vector<std::string>& strings, Record* r) {
+  r->type = RecordType::kResidual;
+  r->stage = ReadStringRef(c, strings);
+  r->residual_kind = ReadStringRef(c, strings);
+  r->entity = c.Str();
+  const uint64_t ns = c.Varint();
+  for (uint64_t i = 0; i < ns; ++i) r->residual_start.push_back(c.F64());
+  const uint64_t ne = c.Varint();
+  for (uint64_t i = 0; i < ne; ++i) r->residual_end.push_back(c.F64());
+  r->information = c.F64();
+  r->weight = c.F64();
+  r->robust_loss = c.F64();
+  r->chi2 = c.F64();
+  r->inlier = c.U8() != 0;
+}
+
+// The body of a record with the given tag (all but string definitions).
+void ReadRecordBody(uint8_t tag, Cursor& c, const std::vector<std::string>& strings, int schema_version,
+                    int64_t frame, Record* r) {
+  switch (tag) {
+    case format::kTagFrame:
+      r->type = RecordType::kFrame;
+      if (c.SVarint() != frame) c.Fail("frame record disagrees with the frame index");
+      r->timestamp = c.F64();
+      break;
+    case format::kTagPose:
+      r->type = RecordType::kPose;
+      r->name = ReadStringRef(c, strings);
+      for (double& d : r->T_wc) d = c.F64();
+      break;
+    case format::kTagCount:
+      r->type = RecordType::kCount;
+      r->stage = ReadStringRef(c, strings);
+      r->name = ReadStringRef(c, strings);
+      r->value = c.SVarint();
+      break;
+    case format::kTagObs:
+      ReadObservationBody(c, schema_version, r);
+      break;
+    case format::kTagProb:
+      ReadProbabilityBody(c, strings, r);
+      break;
+    case format::kTagResidual:
+      ReadResidualBody(c, strings, r);
+      break;
+    case format::kTagDecision:
+      r->type = RecordType::kDecision;
+      r->stage = ReadStringRef(c, strings);
+      r->kind = ReadEntityKind(c);
+      r->entity = c.Str();
+      r->kept = c.U8() != 0;
+      r->reason = ReadStringRef(c, strings);
+      break;
+    default:
+      c.Fail("unknown record tag " + std::to_string(tag));
+  }
+}
+
 }  // namespace
 
 TraceReader::TraceReader(const std::string& path) : path_(path) {
@@ -251,11 +351,6 @@ std::vector<Record> TraceReader::ReadGroup(size_t gi) {
                            Hex32(g.crc) + ", computed " + Hex32(computed) + ")");
   }
   Cursor c(path_, block.data(), block.size());
-  auto ref = [&]() -> const std::string& {
-    const uint64_t id = c.Varint();
-    if (id >= strings_.size()) c.Fail("string id " + std::to_string(id) + " not in the table");
-    return strings_[id];
-  };
   std::vector<Record> out;
   out.reserve(std::min<uint64_t>(g.records, block.size()));  // a record has >= 1 byte
   while (!c.AtEnd()) {
@@ -268,83 +363,7 @@ std::vector<Record> TraceReader::ReadGroup(size_t gi) {
     }
     Record r;
     r.frame = g.frame;
-    switch (tag) {
-      case format::kTagFrame:
-        r.type = RecordType::kFrame;
-        if (c.SVarint() != g.frame) c.Fail("frame record disagrees with the frame index");
-        r.timestamp = c.F64();
-        break;
-      case format::kTagPose:
-        r.type = RecordType::kPose;
-        r.name = ref();
-        for (double& d : r.T_wc) d = c.F64();
-        break;
-      case format::kTagCount:
-        r.type = RecordType::kCount;
-        r.stage = ref();
-        r.name = ref();
-        r.value = c.SVarint();
-        break;
-      case format::kTagObs:
-        r.type = RecordType::kObservation;
-        r.feature_index = c.SVarint();
-        r.map_point_id = c.SVarint();
-        // Schema 3 adds the association the stages saw; before it, the final one is all there is.
-        r.associated_map_point_id = schema_version_ >= 3 ? c.SVarint() : r.map_point_id;
-        r.u = c.F64();
-        r.v = c.F64();
-        r.depth_m = c.F64();
-        r.octave = c.SVarint();
-        r.descriptor_hash = c.Fixed64();
-        break;
-      case format::kTagProb: {
-        r.type = RecordType::kProbability;
-        r.stage = ref();
-        const uint8_t kind = c.U8();
-        if (kind > static_cast<uint8_t>(EntityKind::kFrame)) c.Fail("bad entity kind");
-        r.kind = static_cast<EntityKind>(kind);
-        r.entity = c.Str();
-        const uint64_t n = c.Varint();
-        for (uint64_t i = 0; i < n; ++i) {
-          NamedValue nv;
-          nv.name = ref();
-          nv.value = c.F64();
-          r.inputs.push_back(std::move(nv));
-        }
-        r.before = c.F64();
-        r.after = c.F64();
-        break;
-      }
-      case format::kTagResidual: {
-        r.type = RecordType::kResidual;
-        r.stage = ref();
-        r.residual_kind = ref();
-        r.entity = c.Str();
-        const uint64_t ns = c.Varint();
-        for (uint64_t i = 0; i < ns; ++i) r.residual_start.push_back(c.F64());
-        const uint64_t ne = c.Varint();
-        for (uint64_t i = 0; i < ne; ++i) r.residual_end.push_back(c.F64());
-        r.information = c.F64();
-        r.weight = c.F64();
-        r.robust_loss = c.F64();
-        r.chi2 = c.F64();
-        r.inlier = c.U8() != 0;
-        break;
-      }
-      case format::kTagDecision: {
-        r.type = RecordType::kDecision;
-        r.stage = ref();
-        const uint8_t kind = c.U8();
-        if (kind > static_cast<uint8_t>(EntityKind::kFrame)) c.Fail("bad entity kind");
-        r.kind = static_cast<EntityKind>(kind);
-        r.entity = c.Str();
-        r.kept = c.U8() != 0;
-        r.reason = ref();
-        break;
-      }
-      default:
-        c.Fail("unknown record tag " + std::to_string(tag));
-    }
+    ReadRecordBody(tag, c, strings_, schema_version_, g.frame, &r);
     out.push_back(std::move(r));
   }
   if (out.size() != g.records)

@@ -215,23 +215,8 @@ class ResidualVerifier final : public Verifier {
     check.Same("observation at", ba ? "keyframe" : "frame", id.keyframe ? "keyframe" : "frame");
     if (!ba) check.Near("observation frame", static_cast<double>(r.frame), static_cast<double>(id.at), 0);
     if (!check.ok()) return;
-    // Kind and its dimension.
     const bool literal = t.BackboneNumber("line_literal_residual").value_or(0) != 0;
-    int dof = 0;
-    if (id.type == 'p') {
-      dof = r.residual_kind == "rgbd3" ? 3 : 2;
-      if (r.residual_kind != "rgbd3" && r.residual_kind != "mono2")
-        return check.Same("residual_kind", "rgbd3|mono2", r.residual_kind);
-    } else if (id.type == 'l') {
-      check.Same("residual_kind", literal ? "line1" : "line4", r.residual_kind);
-      dof = literal ? 1 : 4;
-    } else {
-      check.Same("residual_kind", "plane3", r.residual_kind);
-      dof = 3;
-    }
-    const auto size_ok = [&](const std::vector<double>& v) { return v.empty() || static_cast<int>(v.size()) == dof; };
-    check.Near("residual_start size", size_ok(r.residual_start) ? 1 : 0, 1, 0);
-    check.Near("residual_end size", size_ok(r.residual_end) ? 1 : 0, 1, 0);
+    if (!CheckKind(r, id, literal, check)) return;
     // The link record and the observed frame.
     const Record* link = FindLink(t, at, family + ".obs", r.entity);
     if (link == nullptr) return check.Missing("link record " + family + ".obs " + r.entity);
@@ -250,68 +235,126 @@ class ResidualVerifier final : public Verifier {
     const double weight = LastWeight(t, ItemId(id.type, obs_frame, index), *fp, at);
     check.Near("weight", weight, r.weight, kTol);
     // Information, thresholds, chi2.
-    const std::string pre = ba ? "ba_" : "pose_";
-    double threshold = 0, chi2 = kInf;
+    Expected x;
     const bool valid = !r.residual_end.empty();
     double sq = 0;
     for (double e : r.residual_end) sq += e * e;
-    double robust = kInf;
     if (id.type == 'p') {
-      const Record* obs = t.Obs(*fp, index);
-      if (obs == nullptr) return check.Missing("OBS f" + std::to_string(obs_frame) + "." + std::to_string(index));
-      std::string why;
-      const auto info = InvSigma2(t, obs->octave, &why);
-      if (!info) return check.Missing(why);
-      check.Near("information", *info, r.information, kInfoTol);
-      // rgbd3 iff the feature has a virtual right coordinate u_r = u - bf / depth >= 0, in float32
-      // as the frame stores it (ORB-SLAM2 ComputeStereoFromRGBD, mvuRight).
-      if (!t.camera().present) return check.Missing("header camera_json");
-      float ur = -1.0f;
-      if (obs->depth_m > 0) ur = static_cast<float>(obs->u) - static_cast<float>(t.camera().bf) / static_cast<float>(obs->depth_m);
-      const bool stereo = obs->depth_m > 0 && ur >= 0;
-      check.Same("residual_kind", stereo ? "rgbd3" : "mono2", r.residual_kind);
-      const auto th = t.BackboneNumber(pre + (stereo ? "chi2_stereo" : "chi2_mono"));
-      const auto weighted_test = t.BackboneNumber(pre + "weighted_outlier_test");
-      threshold = check.Need(th, "backbone " + pre + "chi2");
-      check.Need(weighted_test, "backbone " + pre + "weighted_outlier_test");
-      if (!check.ok()) return;
-      // chi2 = e^T Omega e with Omega = inv_sigma2 * I (outlier test; * weight when weighted).
-      const double test_info = *weighted_test != 0 ? r.information * r.weight : r.information;
-      if (valid) chi2 = test_info * sq, robust = Huber(r.information * r.weight * sq, threshold);
-      if (!ba) CheckProjection(t, at, *link, *obs, ur, stereo ? 3 : 2, check);
+      const PointEdge edge{at, link, *fp, index, obs_frame, ba};
+      if (!ExpectPoint(t, edge, valid, sq, &x, check)) return;
     } else if (id.type == 'l') {
-      const double sigma = check.Need(t.BackboneNumber("line_sigma_px"), "backbone line_sigma_px");
-      if (!check.ok()) return;
-      check.Near("information", 1.0 / (sigma * sigma), r.information, kTol);
-      threshold = literal ? kChi2Line1 : kChi2Line4;
-      if (valid) chi2 = sq / (sigma * sigma), robust = Huber(r.weight * chi2, threshold);
+      if (!ExpectLine(t, r, literal, valid, sq, &x, check)) return;
     } else {
-      const double sa_deg = check.Need(t.BackboneNumber("plane_angle_sigma_deg"), "backbone plane_angle_sigma_deg");
-      const double sd = check.Need(t.BackboneNumber("plane_dist_sigma_m"), "backbone plane_dist_sigma_m");
-      if (!check.ok()) return;
-      check.Near("information", 1.0 / (sd * sd), r.information, kTol);
-      threshold = kChi2Plane;
-      const double sa = sa_deg * kPi / 180;
-      if (valid) {
-        const auto& e = r.residual_end;
-        chi2 = (e[0] * e[0] + e[1] * e[1]) / (sa * sa) + e[2] * e[2] / (sd * sd);
-        robust = Huber(r.weight * chi2, threshold);
-      }
+      if (!ExpectPlane(t, r, valid, &x, check)) return;
     }
-    check.Near("chi2", chi2, r.chi2, kTol);
-    check.Near("robust_loss", robust, r.robust_loss, kTol);
+    check.Near("chi2", x.chi2, r.chi2, kTol);
+    check.Near("robust_loss", x.robust, r.robust_loss, kTol);
     // Inlier: pose-only re-classifies every edge at the returned pose (chi2 <= threshold); local
     // BA also drops the edges over the threshold after the robust phase (link robust_chi2).
-    bool inlier = chi2 <= threshold;
+    bool inlier = x.chi2 <= x.threshold;
     if (ba) {
       const double robust_chi2 = check.Need(*link, "robust_chi2");
       if (!check.ok()) return;
-      inlier = inlier && robust_chi2 <= threshold;
+      inlier = inlier && robust_chi2 <= x.threshold;
     }
     check.Same("inlier", inlier, r.inlier);
   }
 
  private:
+  // The recomputed outlier test of one residual.
+  struct Expected {
+    double threshold = 0, chi2 = kInf, robust = kInf;
+  };
+  // A point edge's record, link record and observed frame.
+  struct PointEdge {
+    RecordRef at;
+    const Record* link;
+    size_t frame_pos;
+    int64_t index, obs_frame;
+    bool ba;
+  };
+
+  // Kind and its dimension (residual sizes); false: stop (an unknown point kind).
+  static bool CheckKind(const Record& r, const ObsId& id, bool literal, Check& check) {
+    int dof = 0;
+    if (id.type == 'p') {
+      dof = r.residual_kind == "rgbd3" ? 3 : 2;
+      if (r.residual_kind != "rgbd3" && r.residual_kind != "mono2") {
+        check.Same("residual_kind", "rgbd3|mono2", r.residual_kind);
+        return false;
+      }
+    } else if (id.type == 'l') {
+      check.Same("residual_kind", literal ? "line1" : "line4", r.residual_kind);
+      dof = literal ? 1 : 4;
+    } else {
+      check.Same("residual_kind", "plane3", r.residual_kind);
+      dof = 3;
+    }
+    const auto size_ok = [&](const std::vector<double>& v) { return v.empty() || static_cast<int>(v.size()) == dof; };
+    check.Near("residual_start size", size_ok(r.residual_start) ? 1 : 0, 1, 0);
+    check.Near("residual_end size", size_ok(r.residual_end) ? 1 : 0, 1, 0);
+    return true;
+  }
+
+  // A point edge: information from the OBS octave, rgbd3 / mono2 from its virtual right
+  // coordinate, threshold from the backbone options; pose-only residuals recomputed. False: stop.
+  bool ExpectPoint(const TraceModel& t, const PointEdge& edge, bool valid, double sq, Expected* x,
+                   Check& check) const {
+    const Record& r = t.At(edge.at);
+    const std::string pre = edge.ba ? "ba_" : "pose_";
+    const Record* obs = t.Obs(edge.frame_pos, edge.index);
+    if (obs == nullptr) {
+      check.Missing("OBS f" + std::to_string(edge.obs_frame) + "." + std::to_string(edge.index));
+      return false;
+    }
+    std::string why;
+    const auto info = InvSigma2(t, obs->octave, &why);
+    if (!info) return check.Missing(why), false;
+    check.Near("information", *info, r.information, kInfoTol);
+    // rgbd3 iff the feature has a virtual right coordinate u_r = u - bf / depth >= 0, in float32
+    // as the frame stores it (ORB-SLAM2 ComputeStereoFromRGBD, mvuRight).
+    if (!t.camera().present) return check.Missing("header camera_json"), false;
+    float ur = -1.0f;
+    if (obs->depth_m > 0) ur = static_cast<float>(obs->u) - static_cast<float>(t.camera().bf) / static_cast<float>(obs->depth_m);
+    const bool stereo = obs->depth_m > 0 && ur >= 0;
+    check.Same("residual_kind", stereo ? "rgbd3" : "mono2", r.residual_kind);
+    const auto th = t.BackboneNumber(pre + (stereo ? "chi2_stereo" : "chi2_mono"));
+    const auto weighted_test = t.BackboneNumber(pre + "weighted_outlier_test");
+    x->threshold = check.Need(th, "backbone " + pre + "chi2");
+    check.Need(weighted_test, "backbone " + pre + "weighted_outlier_test");
+    if (!check.ok()) return false;
+    // chi2 = e^T Omega e with Omega = inv_sigma2 * I (outlier test; * weight when weighted).
+    const double test_info = *weighted_test != 0 ? r.information * r.weight : r.information;
+    if (valid) x->chi2 = test_info * sq, x->robust = Huber(r.information * r.weight * sq, x->threshold);
+    if (!edge.ba) CheckProjection(t, edge.at, *edge.link, *obs, ur, stereo ? 3 : 2, check);
+    return true;
+  }
+
+  static bool ExpectLine(const TraceModel& t, const Record& r, bool literal, bool valid, double sq, Expected* x,
+                         Check& check) {
+    const double sigma = check.Need(t.BackboneNumber("line_sigma_px"), "backbone line_sigma_px");
+    if (!check.ok()) return false;
+    check.Near("information", 1.0 / (sigma * sigma), r.information, kTol);
+    x->threshold = literal ? kChi2Line1 : kChi2Line4;
+    if (valid) x->chi2 = sq / (sigma * sigma), x->robust = Huber(r.weight * x->chi2, x->threshold);
+    return true;
+  }
+
+  static bool ExpectPlane(const TraceModel& t, const Record& r, bool valid, Expected* x, Check& check) {
+    const double sa_deg = check.Need(t.BackboneNumber("plane_angle_sigma_deg"), "backbone plane_angle_sigma_deg");
+    const double sd = check.Need(t.BackboneNumber("plane_dist_sigma_m"), "backbone plane_dist_sigma_m");
+    if (!check.ok()) return false;
+    check.Near("information", 1.0 / (sd * sd), r.information, kTol);
+    x->threshold = kChi2Plane;
+    const double sa = sa_deg * kPi / 180;
+    if (valid) {
+      const auto& e = r.residual_end;
+      x->chi2 = (e[0] * e[0] + e[1] * e[1]) / (sa * sa) + e[2] * e[2] / (sd * sd);
+      x->robust = Huber(r.weight * x->chi2, x->threshold);
+    }
+    return true;
+  }
+
   // residual_start / residual_end of a pose-only point edge recomputed from the link's world point,
   // the OBS and the POSE records that bound the call (CallPoses); calls without one are not.
   void CheckProjection(const TraceModel& t, RecordRef at, const Record& link, const Record& obs, float ur, int dof,

@@ -40,16 +40,10 @@ MissedSegmentationCompensator::MissedSegmentationCompensator(const CompensationO
   o_.Check();
 }
 
-CompensationResult MissedSegmentationCompensator::Process(double t, const std::vector<PersonMask>& persons,
-                                                          bool enabled) {
-  CompensationResult res;
-  res.mask = cv::Mat::zeros(size_, CV_8U);
-  res.compensated = cv::Mat::zeros(size_, CV_8U);
-  for (const PersonMask& p : persons) res.mask |= p.mask;
-  res.area_now = cv::countNonZero(res.mask);
-  res.area_before = last_area_;
-
-  // Association (E3): greedy on box IoU, best pair first; ties by track then detection order.
+// Association (E3): greedy on box IoU, best pair first; ties by track then detection order.
+// Returns the track of each person (-1: new); track_found per previous track.
+std::vector<int> MissedSegmentationCompensator::Associate(const std::vector<PersonMask>& persons,
+                                                          std::vector<bool>* track_found) const {
   std::vector<std::tuple<double, size_t, size_t>> pairs;
   for (size_t a = 0; a < tracks_.size(); ++a)
     for (size_t b = 0; b < persons.size(); ++b) {
@@ -61,14 +55,19 @@ CompensationResult MissedSegmentationCompensator::Process(double t, const std::v
     return std::make_pair(std::get<1>(x), std::get<2>(x)) < std::make_pair(std::get<1>(y), std::get<2>(y));
   });
   std::vector<int> track_of_person(persons.size(), -1);
-  std::vector<bool> track_found(tracks_.size(), false);
+  track_found->assign(tracks_.size(), false);
   for (const auto& [iou, a, b] : pairs) {
-    if (track_found[a] || track_of_person[b] >= 0) continue;
-    track_found[a] = true;
+    if ((*track_found)[a] || track_of_person[b] >= 0) continue;
+    (*track_found)[a] = true;
     track_of_person[b] = int(a);
   }
+  return track_of_person;
+}
 
-  std::vector<Track> next;
+// This frame's persons continue their associated track or start a new one.
+void MissedSegmentationCompensator::ContinueTracks(double t, const std::vector<PersonMask>& persons,
+                                                   const std::vector<int>& track_of_person, CompensationResult* res,
+                                                   std::vector<Track>* next) {
   for (size_t b = 0; b < persons.size(); ++b) {
     Track tr;
     PersonAssociation as;
@@ -80,70 +79,91 @@ CompensationResult MissedSegmentationCompensator::Process(double t, const std::v
       tr.id = next_id_++;
     }
     as.track = tr.id;
-    res.association.push_back(as);
+    res->association.push_back(as);
     tr.history.push_back({double(persons[b].box.x), double(persons[b].box.y), t});
     while (int(tr.history.size()) > o_.history) tr.history.pop_front();
     tr.mask = persons[b].mask;
     tr.box = persons[b].box;
     tr.consecutive = 0;
-    res.boxes.push_back(tr.box);
-    next.push_back(std::move(tr));
+    res->boxes.push_back(tr.box);
+    next->push_back(std::move(tr));
   }
+}
+
+// Compensation: each previous track not found is pasted at its predicted corner (E2) unless it
+// was pasted too often or leaves the image (then it ends, with the reason).
+void MissedSegmentationCompensator::PasteMissed(double t, const std::vector<bool>& track_found,
+                                                CompensationResult* res, std::vector<Track>* next) const {
+  const auto drop = [&](size_t a, DroppedTrack::Why why) { res->dropped.push_back({tracks_[a].id, why}); };
+  const cv::Rect image(0, 0, size_.width, size_.height);
+  for (size_t a = 0; a < tracks_.size(); ++a) {
+    if (track_found[a]) continue;
+    if (tracks_[a].consecutive >= o_.max_consecutive) {
+      drop(a, DroppedTrack::kMaxConsecutive);
+      continue;
+    }
+    Track tr = tracks_[a];
+    const std::vector<CornerSample> h(tr.history.begin(), tr.history.end());
+    const cv::Point2d to = PredictCorner(h, t);
+    const int dx = int(std::lround(to.x - tr.box.x)), dy = int(std::lround(to.y - tr.box.y));
+    // Translate the last mask by (dx, dy), clipped to the image.
+    cv::Mat moved = cv::Mat::zeros(size_, CV_8U);
+    const cv::Rect src = image & (image - cv::Point(dx, dy));
+    if (src.area() > 0) tr.mask(src).copyTo(moved(src + cv::Point(dx, dy)));
+    const int moved_px = cv::countNonZero(moved);
+    if (moved_px == 0) {  // predicted out of the image: the person left
+      drop(a, DroppedTrack::kOutsideImage);
+      continue;
+    }
+    PastedMask pm;
+    pm.track = tr.id;
+    pm.samples = int(h.size());
+    pm.history = h;
+    pm.from = {double(tr.box.x), double(tr.box.y)};
+    pm.to = to;
+    pm.shift = {dx, dy};
+    pm.moved_px = moved_px;
+    const cv::Mat added = moved & ~res->mask;
+    pm.pasted_px = cv::countNonZero(added);
+    res->compensated |= added;
+    res->mask |= moved;
+    // E2: the history continues with the compensated state, so repeated drop-outs are bridged.
+    tr.mask = moved;
+    tr.box = cv::boundingRect(moved);
+    tr.history.push_back({to.x, to.y, t});
+    while (int(tr.history.size()) > o_.history) tr.history.pop_front();
+    ++tr.consecutive;
+    pm.box = tr.box;
+    pm.consecutive = tr.consecutive;
+    res->pasted.push_back(std::move(pm));
+    res->boxes.push_back(tr.box);
+    next->push_back(std::move(tr));
+  }
+}
+
+CompensationResult MissedSegmentationCompensator::Process(double t, const std::vector<PersonMask>& persons,
+                                                          bool enabled) {
+  CompensationResult res;
+  res.mask = cv::Mat::zeros(size_, CV_8U);
+  res.compensated = cv::Mat::zeros(size_, CV_8U);
+  for (const PersonMask& p : persons) res.mask |= p.mask;
+  res.area_now = cv::countNonZero(res.mask);
+  res.area_before = last_area_;
+
+  std::vector<bool> track_found;
+  const std::vector<int> track_of_person = Associate(persons, &track_found);
+  std::vector<Track> next;
+  ContinueTracks(t, persons, track_of_person, &res, &next);
 
   // r = A_c / A_{c-1} over all persons (E1); A_{c-1} = 0: undefined, no compensation.
   if (last_area_ > 0) res.r = res.area_now / last_area_;
   res.triggered = enabled && res.r >= 0 && res.r < o_.r_threshold;
   // Previous tracks not found end here unless pasted (trace: why).
-  const auto drop = [&](size_t a, DroppedTrack::Why why) { res.dropped.push_back({tracks_[a].id, why}); };
   if (!res.triggered)
     for (size_t a = 0; a < tracks_.size(); ++a)
-      if (!track_found[a]) drop(a, enabled ? DroppedTrack::kNotTriggered : DroppedTrack::kCompensationOff);
-  if (res.triggered) {
-    const cv::Rect image(0, 0, size_.width, size_.height);
-    for (size_t a = 0; a < tracks_.size(); ++a) {
-      if (track_found[a]) continue;
-      if (tracks_[a].consecutive >= o_.max_consecutive) {
-        drop(a, DroppedTrack::kMaxConsecutive);
-        continue;
-      }
-      Track tr = tracks_[a];
-      const std::vector<CornerSample> h(tr.history.begin(), tr.history.end());
-      const cv::Point2d to = PredictCorner(h, t);
-      const int dx = int(std::lround(to.x - tr.box.x)), dy = int(std::lround(to.y - tr.box.y));
-      // Translate the last mask by (dx, dy), clipped to the image.
-      cv::Mat moved = cv::Mat::zeros(size_, CV_8U);
-      const cv::Rect src = image & (image - cv::Point(dx, dy));
-      if (src.area() > 0) tr.mask(src).copyTo(moved(src + cv::Point(dx, dy)));
-      const int moved_px = cv::countNonZero(moved);
-      if (moved_px == 0) {  // predicted out of the image: the person left
-        drop(a, DroppedTrack::kOutsideImage);
-        continue;
-      }
-      PastedMask pm;
-      pm.track = tr.id;
-      pm.samples = int(h.size());
-      pm.history = h;
-      pm.from = {double(tr.box.x), double(tr.box.y)};
-      pm.to = to;
-      pm.shift = {dx, dy};
-      pm.moved_px = moved_px;
-      const cv::Mat added = moved & ~res.mask;
-      pm.pasted_px = cv::countNonZero(added);
-      res.compensated |= added;
-      res.mask |= moved;
-      // E2: the history continues with the compensated state, so repeated drop-outs are bridged.
-      tr.mask = moved;
-      tr.box = cv::boundingRect(moved);
-      tr.history.push_back({to.x, to.y, t});
-      while (int(tr.history.size()) > o_.history) tr.history.pop_front();
-      ++tr.consecutive;
-      pm.box = tr.box;
-      pm.consecutive = tr.consecutive;
-      res.pasted.push_back(std::move(pm));
-      res.boxes.push_back(tr.box);
-      next.push_back(std::move(tr));
-    }
-  }
+      if (!track_found[a])
+        res.dropped.push_back({tracks_[a].id, enabled ? DroppedTrack::kNotTriggered : DroppedTrack::kCompensationOff});
+  if (res.triggered) PasteMissed(t, track_found, &res, &next);
   std::stable_sort(next.begin(), next.end(), [](const Track& x, const Track& y) { return x.id < y.id; });
   tracks_ = std::move(next);
   last_area_ = cv::countNonZero(res.mask);

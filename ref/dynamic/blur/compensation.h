@@ -90,6 +90,12 @@ class MissedSegmentationCompensator {
     cv::Rect box;
     int consecutive = 0;               // frames in a row this track was predicted
   };
+  // Steps of Process: association (E3), this frame's persons as tracks, pasting the missed ones.
+  std::vector<int> Associate(const std::vector<PersonMask>& persons, std::vector<bool>* track_found) const;
+  void ContinueTracks(double t, const std::vector<PersonMask>& persons, const std::vector<int>& track_of_person,
+                      CompensationResult* res, std::vector<Track>* next);
+  void PasteMissed(double t, const std::vector<bool>& track_found, CompensationResult* res,
+                   std::vector<Track>* next) const;
   CompensationOptions o_;
   cv::Size size_;
   std::vector<Track> tracks_;          // the previous frame's persons, ascending id

@@ -47,6 +47,150 @@ VoteStage::VoteStage(const ParamMap& p, std::shared_ptr<Blackboard> board)
   }
 }
 
+namespace {
+
+// Non-excluded keypoints and the instance mask each lies in (0: none).
+void EpiVoteCandidates(const Frame& f, const geometry::DynamicMask& m, std::vector<int>* candidates,
+                       std::vector<int>* instance_of) {
+  for (int i = 0; i < int(f.N()); ++i)
+    if (!f.IsExcluded(i)) candidates->push_back(i);
+  instance_of->assign(candidates->size(), 0);
+  for (size_t c = 0; c < candidates->size(); ++c) {
+    const cv::Point2f& p = f.keys[size_t((*candidates)[c])].pt;
+    (*instance_of)[c] = m.InstanceAt(p.x, p.y);
+  }
+}
+
+// What the pose step found, and what epi.epipolar records per in-mask keypoint (README "Trace"):
+// the pair (undistorted px).
+struct EpiVotePose {
+  bool have_pose = false;
+  int static_pairs = 0, pose_inliers = 0;
+  Eigen::Matrix3d R = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d t = Eigen::Vector3d::Zero();
+  std::vector<cv::Point2f> rec_prev, rec_cur;
+  std::vector<uint8_t> rec_tracked;
+};
+
+// b. static pairs with depth in both frames (for (R, t)).
+std::vector<geometry::PointPair3D> EpiVoteStaticPairs(const Camera& cam, const Frame& f, const Frame& prev,
+                                                      const std::vector<int>& candidates,
+                                                      const std::vector<int>& instance_of,
+                                                      const std::vector<geometry::LkPair>& pairs,
+                                                      const std::vector<cv::Point2f>& prev_un,
+                                                      const std::vector<cv::Point2f>& cur_un) {
+  auto back = [&](const cv::Point2f& u, double z) {
+    return Eigen::Vector3d((u.x - cam.cx) / cam.fx * z, (u.y - cam.cy) / cam.fy * z, z);
+  };
+  std::vector<geometry::PointPair3D> pp;
+  for (size_t c = 0; c < pairs.size(); ++c) {
+    if (instance_of[c] != 0 || !pairs[c].usable_for_F()) continue;
+    const int x = int(std::lround(pairs[c].p_prev.x)), y = int(std::lround(pairs[c].p_prev.y));
+    if (x < 0 || y < 0 || x >= prev.depth_m.cols || y >= prev.depth_m.rows) continue;
+    const double z_prev = prev.depth_m.at<float>(y, x), z_cur = f.depth[size_t(candidates[c])];
+    if (!(z_prev > 0) || !(z_cur > 0)) continue;
+    pp.push_back({back(prev_un[c], z_prev), back(cur_un[c], z_cur), {cur_un[c].x, cur_un[c].y}});
+  }
+  return pp;
+}
+
+// b-c. LK pairs k-1 <-> k, the static-region pose, and Eq. (14) D of every tracked in-mask keypoint.
+EpiVotePose EpiVoteEstimatePose(const Camera& cam, const Frame& f, const Frame& prev, const std::vector<int>& candidates,
+                                const std::vector<int>& instance_of, const geometry::LkOptions& lk,
+                                const geometry::RigidRansacOptions& pose_options, Rng& rng, bool full,
+                                std::vector<double>* distance) {
+  EpiVotePose out;
+  std::vector<cv::Point2f> pts;
+  for (int i : candidates) pts.push_back(f.keys[size_t(i)].pt);
+  std::vector<geometry::LkPair> pairs = geometry::TrackBackward(prev.grey, f.grey, pts, lk);
+  for (size_t c = 0; c < pairs.size(); ++c) geometry::PrunePair(prev.grey, f.grey, instance_of[c] != 0, lk, pairs[c]);
+  std::vector<cv::Point2f> prev_un, cur_un;  // pose and F on undistorted pixels (depth looked up raw)
+  geometry::UndistortedPairPixels(cam, pairs, &prev_un, &cur_un);
+  const std::vector<geometry::PointPair3D> pp =
+      EpiVoteStaticPairs(cam, f, prev, candidates, instance_of, pairs, prev_un, cur_un);
+  out.static_pairs = int(pp.size());
+  const geometry::RigidRansacResult pose = geometry::RigidRansac(pp, cam.fx, cam.fy, cam.cx, cam.cy, pose_options, rng);
+  out.pose_inliers = pose.inlier_count;
+  if (full) {
+    out.rec_prev = prev_un, out.rec_cur = cur_un;
+    for (const geometry::LkPair& pr : pairs) out.rec_tracked.push_back(pr.tracked ? 1 : 0);
+  }
+  if (pose.valid) {
+    out.have_pose = true;
+    out.R = pose.R, out.t = pose.t;
+    Eigen::Matrix3d K;
+    K << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1;
+    const Eigen::Matrix3d F = geometry::FundamentalFromPose(K, pose.R, pose.t);
+    // c. every tracked in-mask keypoint (pruning concerns the pose only, as in sgdo).
+    for (size_t c = 0; c < pairs.size(); ++c) {
+      if (instance_of[c] == 0 || !pairs[c].tracked) continue;
+      (*distance)[c] = geometry::EpipolarDistance(F, {prev_un[c].x, prev_un[c].y}, {cur_un[c].x, cur_un[c].y});
+    }
+  }
+  return out;
+}
+
+// epi.pose (p = 0: a pose is no evidence of motion): the static-region pose (R, t) = T_cur_prev
+// F is built from (zero when no pose; t = 0 gives F = 0 and every distance +inf).
+void EpiVoteTracePose(trace::TraceWriter& tr, const std::string& fid, const EpiVotePose& ps, int min_inliers) {
+  std::vector<trace::NamedValue> in = {{"static_pairs", double(ps.static_pairs)}, {"inliers", double(ps.pose_inliers)},
+                                       {"min_inliers", double(min_inliers)}, {"pose", ps.have_pose ? 1.0 : 0.0}};
+  for (int r = 0; r < 3; ++r)
+    for (int k = 0; k < 3; ++k) in.push_back({"R" + std::to_string(r) + std::to_string(k), ps.R(r, k)});
+  for (int r = 0; r < 3; ++r) in.push_back({"t" + std::to_string(r), ps.t(r)});
+  tr.ProbabilityUpdate("epi.pose", trace::EntityKind::kFrame, fid, in, 0.0, 0.0);
+}
+
+// epi.epipolar: every in-mask keypoint (its instance: the vote and the exclusion are checked
+// against it); the pair and the distance when it has one (after = 1 when D > eps).
+void EpiVoteTraceEpipolar(trace::TraceWriter& tr, const Frame& f, const std::vector<int>& candidates,
+                          const std::vector<int>& instance_of, const EpiVotePose& ps,
+                          const std::vector<double>& distance, double eps_px) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    if (instance_of[c] == 0) continue;
+    const bool tracked = c < ps.rec_tracked.size() && ps.rec_tracked[c] != 0;
+    tr.ProbabilityUpdate("epi.epipolar", trace::EntityKind::kFeature, f.FeatureId(candidates[c]),
+                         {{"instance", double(instance_of[c])}, {"tracked", tracked ? 1.0 : 0.0},
+                          {"pose", ps.have_pose ? 1.0 : 0.0},
+                          {"u_prev", tracked ? double(ps.rec_prev[c].x) : nan},
+                          {"v_prev", tracked ? double(ps.rec_prev[c].y) : nan},
+                          {"u_cur", tracked ? double(ps.rec_cur[c].x) : nan},
+                          {"v_cur", tracked ? double(ps.rec_cur[c].y) : nan},
+                          {"distance_px", distance[c]}, {"eps_px", eps_px}},
+                         0.0, distance[c] > eps_px ? 1.0 : 0.0);
+  }
+}
+
+// d. the decision on each mask (and its vote when tracing in full).
+void EpiVoteRecordVotes(trace::TraceWriter& tr, const std::string& stage, const Frame& f,
+                        const std::map<int, MaskVote>& votes, const MaskVoteOptions& vote, bool full) {
+  for (const auto& [id, v] : votes) {
+    const std::string iid = "i" + std::to_string(f.index) + "." + std::to_string(id);
+    if (full)  // after = the mask's state (1 dynamic); the ratio is an input
+      tr.ProbabilityUpdate("epi.vote", trace::EntityKind::kInstanceMask, iid,
+                           {{"matched", double(v.matched)}, {"violating", double(v.violating)}, {"ratio", v.ratio},
+                            {"vote_ratio", vote.vote_ratio}},
+                           0.0, v.dynamic ? 1.0 : 0.0);
+    tr.Decision(stage, trace::EntityKind::kInstanceMask, iid, !v.dynamic,
+                v.matched == 0 ? "no-matched-keypoint" : (v.dynamic ? "vote>ratio" : "vote<=ratio"));
+  }
+}
+
+// e. exclusion of the keypoints of dynamic masks; returns how many were removed.
+int64_t EpiVoteExclude(StageContext& ctx, const std::vector<int>& candidates, const std::vector<int>& instance_of,
+                       const std::map<int, MaskVote>& votes, const std::string& stage) {
+  int64_t removed = 0;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    if (instance_of[c] == 0 || !votes.at(instance_of[c]).dynamic) continue;
+    ctx.frame.Exclude(candidates[c], stage, "dynamic-mask");
+    ++removed;
+  }
+  return removed;
+}
+
+}  // namespace
+
 void VoteStage::Run(StageContext& ctx) {
   const Frame& f = ctx.frame.view();
   if (f.detections == nullptr)
@@ -63,110 +207,25 @@ void VoteStage::Run(StageContext& ctx) {
       tally_.Count(inst.confidence < frame_mask.min_confidence);
   const geometry::DynamicMask m = geometry::BuildDynamicMask(*f.detections, cam.width, cam.height, frame_mask);
 
-  std::vector<int> candidates;  // non-excluded keypoints
-  for (int i = 0; i < int(f.N()); ++i)
-    if (!f.IsExcluded(i)) candidates.push_back(i);
-  std::vector<int> instance_of(candidates.size(), 0);
-  for (size_t c = 0; c < candidates.size(); ++c) {
-    const cv::Point2f& p = f.keys[size_t(candidates[c])].pt;
-    instance_of[c] = m.InstanceAt(p.x, p.y);
-  }
+  std::vector<int> candidates, instance_of;  // non-excluded keypoints, their instance
+  EpiVoteCandidates(f, m, &candidates, &instance_of);
   std::vector<double> distance(candidates.size(), std::numeric_limits<double>::quiet_NaN());
   const Frame* prev = ctx.previous;
-  bool have_pose = false;
-  int static_pairs = 0, pose_inliers = 0;
   const bool full = tr.full_enabled();
-  // What epi.epipolar records per in-mask keypoint (README "Trace"): the pair (undistorted px).
-  std::vector<cv::Point2f> rec_prev, rec_cur;
-  std::vector<uint8_t> rec_tracked;
-  Eigen::Matrix3d pose_R = Eigen::Matrix3d::Zero();
-  Eigen::Vector3d pose_t = Eigen::Vector3d::Zero();
+  EpiVotePose pose;
   if (prev != nullptr && !prev->grey.empty() && !prev->depth_m.empty() && !candidates.empty() && !m.instance_ids.empty()) {
-    std::vector<cv::Point2f> pts;
-    for (int i : candidates) pts.push_back(f.keys[size_t(i)].pt);
     lk_.threads = ctx.threads;
-    std::vector<geometry::LkPair> pairs = geometry::TrackBackward(prev->grey, f.grey, pts, lk_);
-    for (size_t c = 0; c < pairs.size(); ++c) geometry::PrunePair(prev->grey, f.grey, instance_of[c] != 0, lk_, pairs[c]);
-    std::vector<cv::Point2f> prev_un, cur_un;  // pose and F on undistorted pixels (depth looked up raw)
-    geometry::UndistortedPairPixels(cam, pairs, &prev_un, &cur_un);
-    // b. static pairs with depth in both frames -> (R, t).
-    auto back = [&](const cv::Point2f& u, double z) {
-      return Eigen::Vector3d((u.x - cam.cx) / cam.fx * z, (u.y - cam.cy) / cam.fy * z, z);
-    };
-    std::vector<geometry::PointPair3D> pp;
-    for (size_t c = 0; c < pairs.size(); ++c) {
-      if (instance_of[c] != 0 || !pairs[c].usable_for_F()) continue;
-      const int x = int(std::lround(pairs[c].p_prev.x)), y = int(std::lround(pairs[c].p_prev.y));
-      if (x < 0 || y < 0 || x >= prev->depth_m.cols || y >= prev->depth_m.rows) continue;
-      const double z_prev = prev->depth_m.at<float>(y, x), z_cur = f.depth[size_t(candidates[c])];
-      if (!(z_prev > 0) || !(z_cur > 0)) continue;
-      pp.push_back({back(prev_un[c], z_prev), back(cur_un[c], z_cur), {cur_un[c].x, cur_un[c].y}});
-    }
-    static_pairs = int(pp.size());
-    const geometry::RigidRansacResult pose = geometry::RigidRansac(pp, cam.fx, cam.fy, cam.cx, cam.cy, pose_, rng_);
-    pose_inliers = pose.inlier_count;
-    if (full) {
-      rec_prev = prev_un, rec_cur = cur_un;
-      for (const geometry::LkPair& pr : pairs) rec_tracked.push_back(pr.tracked ? 1 : 0);
-    }
-    if (pose.valid) {
-      have_pose = true;
-      pose_R = pose.R, pose_t = pose.t;
-      Eigen::Matrix3d K;
-      K << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1;
-      const Eigen::Matrix3d F = geometry::FundamentalFromPose(K, pose.R, pose.t);
-      // c. every tracked in-mask keypoint (pruning concerns the pose only, as in sgdo).
-      for (size_t c = 0; c < pairs.size(); ++c) {
-        if (instance_of[c] == 0 || !pairs[c].tracked) continue;
-        distance[c] = geometry::EpipolarDistance(F, {prev_un[c].x, prev_un[c].y}, {cur_un[c].x, cur_un[c].y});
-      }
-    }
+    pose = EpiVoteEstimatePose(cam, f, *prev, candidates, instance_of, lk_, pose_, rng_, full, &distance);
   }
   if (full) {
-    // epi.pose (p = 0: a pose is no evidence of motion): the static-region pose (R, t) = T_cur_prev
-    // F is built from (zero when no pose; t = 0 gives F = 0 and every distance +inf).
-    std::vector<trace::NamedValue> in = {{"static_pairs", double(static_pairs)}, {"inliers", double(pose_inliers)},
-                                         {"min_inliers", double(pose_.min_inliers)}, {"pose", have_pose ? 1.0 : 0.0}};
-    for (int r = 0; r < 3; ++r)
-      for (int k = 0; k < 3; ++k) in.push_back({"R" + std::to_string(r) + std::to_string(k), pose_R(r, k)});
-    for (int r = 0; r < 3; ++r) in.push_back({"t" + std::to_string(r), pose_t(r)});
-    tr.ProbabilityUpdate("epi.pose", trace::EntityKind::kFrame, fid, in, 0.0, 0.0);
-    // epi.epipolar: every in-mask keypoint (its instance: the vote and the exclusion are checked
-    // against it); the pair and the distance when it has one (after = 1 when D > eps).
-    const double nan = std::numeric_limits<double>::quiet_NaN();
-    for (size_t c = 0; c < candidates.size(); ++c) {
-      if (instance_of[c] == 0) continue;
-      const bool tracked = c < rec_tracked.size() && rec_tracked[c] != 0;
-      tr.ProbabilityUpdate("epi.epipolar", trace::EntityKind::kFeature, f.FeatureId(candidates[c]),
-                           {{"instance", double(instance_of[c])}, {"tracked", tracked ? 1.0 : 0.0},
-                            {"pose", have_pose ? 1.0 : 0.0},
-                            {"u_prev", tracked ? double(rec_prev[c].x) : nan},
-                            {"v_prev", tracked ? double(rec_prev[c].y) : nan},
-                            {"u_cur", tracked ? double(rec_cur[c].x) : nan},
-                            {"v_cur", tracked ? double(rec_cur[c].y) : nan},
-                            {"distance_px", distance[c]}, {"eps_px", vote_.epi_threshold_px}},
-                           0.0, distance[c] > vote_.epi_threshold_px ? 1.0 : 0.0);
-    }
+    EpiVoteTracePose(tr, fid, pose, pose_.min_inliers);
+    EpiVoteTraceEpipolar(tr, f, candidates, instance_of, pose, distance, vote_.epi_threshold_px);
   }
   // d. votes (without a pose: no distance, every mask dynamic, E8).
   const std::map<int, MaskVote> votes = VoteMasks(instance_of, distance, m.instance_ids, vote_);
-  for (const auto& [id, v] : votes) {
-    const std::string iid = "i" + std::to_string(f.index) + "." + std::to_string(id);
-    if (full)  // after = the mask's state (1 dynamic); the ratio is an input
-      tr.ProbabilityUpdate("epi.vote", trace::EntityKind::kInstanceMask, iid,
-                           {{"matched", double(v.matched)}, {"violating", double(v.violating)}, {"ratio", v.ratio},
-                            {"vote_ratio", vote_.vote_ratio}},
-                           0.0, v.dynamic ? 1.0 : 0.0);
-    tr.Decision(name(), trace::EntityKind::kInstanceMask, iid, !v.dynamic,
-                v.matched == 0 ? "no-matched-keypoint" : (v.dynamic ? "vote>ratio" : "vote<=ratio"));
-  }
+  EpiVoteRecordVotes(tr, name(), f, votes, vote_, full);
   // e. exclusion.
-  int64_t removed = 0;
-  for (size_t c = 0; c < candidates.size(); ++c) {
-    if (instance_of[c] == 0 || !votes.at(instance_of[c]).dynamic) continue;
-    ctx.frame.Exclude(candidates[c], name(), "dynamic-mask");
-    ++removed;
-  }
+  const int64_t removed = EpiVoteExclude(ctx, candidates, instance_of, votes, name());
   int64_t dynamic_masks = 0;
   for (const auto& [id, v] : votes) dynamic_masks += v.dynamic;
   // For epi.nerf: the labels (a fresh image per frame, shared, not copied) and the dynamic ids.

@@ -59,6 +59,218 @@ void TraceFrameInputs(trace::TraceWriter& tr, const Frame& f, const Frame* prev,
   tr.ProbabilityUpdate("mgd.frame", trace::EntityKind::kFrame, "f" + std::to_string(f.index), in, 0.0, 0.0);
 }
 
+// What the cues of every feature share this frame: the previous-frame correspondences, the mean
+// background flow (spec E6) and F of the initial relative pose (spec E9).
+struct ProbStageFrameCues {
+  const Frame* prev = nullptr;
+  std::vector<Correspondence> corr;
+  bool have_prev_p = false;
+  Eigen::Vector2d vbar = Eigen::Vector2d::Zero();
+  int n_vbar = 0;
+  bool has_vbar = false, has_F = false, has_T = false;
+  Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
+  SE3 T_cur_prev = SE3::Identity();
+};
+
+ProbStageFrameCues ProbStagePrepareFrame(StageContext& ctx, const MgdOptions& o, const MgdState& s, const Frame& f) {
+  ProbStageFrameCues fc;
+  const Frame* prev = ctx.previous;
+  fc.prev = prev;
+  fc.corr.resize(f.N());
+  if (prev != nullptr) fc.corr = MatchPrevious(f, *prev, o.delta, o.match_radius_px, ctx.threads);
+  fc.have_prev_p = prev != nullptr && s.prev_frame == prev->index && s.prev_p.size() == prev->N();
+  fc.n_vbar = prev != nullptr ? MeanBackgroundVelocity(f, *prev, fc.corr, s.in_box, &fc.vbar) : 0;
+  fc.has_vbar = fc.n_vbar > 0;
+  // F of the initial relative pose (spec E9: the line in frame k is F x^{k-1}).
+  if (prev != nullptr && prev->has_pose && f.has_pose) {
+    fc.T_cur_prev = f.T_cw * prev->T_cw.inverse();
+    fc.has_T = true;
+    if (fc.T_cur_prev.translation().norm() > 1e-9) {
+      const Intrinsics K = ctx.camera.Pinhole();
+      Eigen::Matrix3d Km;
+      Km << K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1;
+      fc.F = geometry::FundamentalFromPose(Km, fc.T_cur_prev.linear(), fc.T_cur_prev.translation());
+      fc.has_F = true;
+    }
+  }
+  return fc;
+}
+
+// The diffusion nodes (features first, then 3 samples per line) and the frame's counters.
+struct ProbStageNodes {
+  std::vector<double> p_smooth;
+  std::vector<Eigen::Vector3d> points;
+  std::vector<bool> has_point;
+  int64_t counts[3] = {0, 0, 0}, computable_ls = 0, computable_pro = 0, computable_mf = 0;
+};
+
+// Step 7: inheritance (previous-frame feature, else its map point, else P_init by Flag_d).
+double ProbStageInherit(StageContext& ctx, const MgdOptions& o, const MgdState& s, const ProbStageFrameCues& fc,
+                        size_t i, int j, int64_t mp, int* source) {
+  double p_prev;
+  const MapPoint* point = mp >= 0 ? ctx.map.mp(mp) : nullptr;
+  if (j >= 0 && fc.have_prev_p && s.prev_p[j] >= 0) {
+    p_prev = s.prev_p[j], *source = 0;
+  } else if (point != nullptr && point->dynamic.p_dynamic >= 0) {
+    p_prev = point->dynamic.p_dynamic, *source = 1;
+  } else {
+    p_prev = s.in_box[i] ? o.p_init_box : o.p_init_free, *source = 2;
+  }
+  return p_prev;
+}
+
+struct ProbStageFeatureCues {
+  Cues c;
+  VelocityDeviation dev;
+  double d_epi = 0;
+  const ProCue* pro = nullptr;
+};
+
+// Step 8: cues P_LS, P_pro and P_mf of feature i.
+ProbStageFeatureCues ProbStageCues(const MgdOptions& o, const MgdState& s, const Frame& f, const ProbStageFrameCues& fc,
+                                   size_t i, int j, int64_t mp) {
+  ProbStageFeatureCues q;
+  Cues& c = q.c;
+  if (j >= 0 && fc.has_vbar) {
+    const cv::Point2f d = f.keys_un[i].pt - fc.prev->keys_un[j].pt;
+    q.dev = Deviation(Eigen::Vector2d(d.x, d.y), fc.vbar, o);
+    c.has_ls = true;
+    c.p_ls = ProbabilityLS(q.dev, o);
+  }
+  if (mp >= 0) {
+    auto it = s.pro.find(mp);
+    if (it != s.pro.end()) q.pro = &it->second, c.has_pro = true, c.p_pro = it->second.p;
+  }
+  if (j >= 0 && fc.has_F) {
+    const cv::Point2f a = fc.prev->keys_un[j].pt, b = f.keys_un[i].pt;
+    q.d_epi = geometry::EpipolarDistance(fc.F, Eigen::Vector2d(a.x, a.y), Eigen::Vector2d(b.x, b.y));
+    c.has_mf = true;
+    c.p_mf = ProbabilityMF(q.d_epi, o);
+  }
+  return q;
+}
+
+void ProbStageTraceFeature(trace::TraceWriter& tr, const MgdOptions& o, const MgdState& s, const ProbStageFrameCues& fc,
+                           size_t i, const std::string& id, int source, int j, int64_t mp, double p_prev,
+                           const ProbStageFeatureCues& q, double S, double p_smooth) {
+  const Cues& c = q.c;
+  const ProCue* pro = q.pro;
+  tr.ProbabilityUpdate("mgd.inherit", trace::EntityKind::kFeature, id,
+                       {{"source", double(source)}, {"prev_index", double(j)}, {"map_point", double(mp)},
+                        {"in_box", double(s.in_box[i])}, {"hamming", double(fc.corr[i].hamming)}},
+                       p_prev, p_prev);
+  tr.ProbabilityUpdate("mgd.P_LS", trace::EntityKind::kFeature, id,
+                       {{"computable", double(c.has_ls)}, {"d_px", q.dev.d_px}, {"dtheta", q.dev.dtheta},
+                        {"vbar_u", fc.vbar.x()}, {"vbar_v", fc.vbar.y()}},
+                       0.5, c.has_ls ? c.p_ls : 0.5);
+  tr.ProbabilityUpdate("mgd.P_pro", trace::EntityKind::kFeature, id,
+                       {{"computable", double(c.has_pro)}, {"mean_forward_px", pro ? pro->mean_forward_px : 0.0},
+                        {"mean_backward_px", pro ? pro->mean_backward_px : 0.0},
+                        {"covisible", pro ? double(pro->covisible) : 0.0}, {"kf", pro ? double(pro->kf) : -1.0},
+                        {"source_mp", pro ? double(pro->mp) : -1.0}},
+                       0.5, c.has_pro ? c.p_pro : 0.5);
+  tr.ProbabilityUpdate("mgd.P_mf", trace::EntityKind::kFeature, id,
+                       {{"computable", double(c.has_mf)}, {"d_epi_px", q.d_epi}}, 0.5, c.has_mf ? c.p_mf : 0.5);
+  tr.ProbabilityUpdate("mgd.fusion", trace::EntityKind::kFeature, id,
+                       {{"w_ls", o.use_ls ? o.w_ls : 0.0}, {"w_pro", o.use_pro ? o.w_pro : 0.0},
+                        {"w_mf", o.use_mf ? o.w_mf : 0.0}},
+                       0.5, S);
+  tr.ProbabilityUpdate("mgd.smooth", trace::EntityKind::kFeature, id, {{"S", S}, {"a", o.a}}, p_prev, p_smooth);
+}
+
+// Steps 7-9 for every non-excluded feature: inherited P, cues, fusion and smoothing; the
+// feature's 3-D point (camera frame) for the diffusion.
+ProbStageNodes ProbStageFeatureNodes(StageContext& ctx, const MgdOptions& o, const MgdState& s, const Frame& f,
+                                     const ProbStageFrameCues& fc, bool full) {
+  const size_t n = f.N();
+  ProbStageNodes nodes;
+  nodes.p_smooth.assign(n, -1.0);
+  nodes.points.assign(n, Eigen::Vector3d::Zero());
+  nodes.has_point.assign(n, false);
+  const Intrinsics K = ctx.camera.Pinhole();
+  for (size_t i = 0; i < n; ++i) {
+    const int fi = static_cast<int>(i);
+    if (f.IsExcluded(fi)) continue;
+    const std::string id = f.FeatureId(fi);
+    const int j = fc.corr[i].prev_index;
+    const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
+    int source;
+    const double p_prev = ProbStageInherit(ctx, o, s, fc, i, j, mp, &source);
+    ++nodes.counts[source];
+    const ProbStageFeatureCues q = ProbStageCues(o, s, f, fc, i, j, mp);
+    nodes.computable_ls += q.c.has_ls, nodes.computable_pro += q.c.has_pro, nodes.computable_mf += q.c.has_mf;
+    const double S = Fuse(q.c, o);
+    nodes.p_smooth[i] = Smooth(p_prev, S, o);
+    if (f.depth[i] > 0) {
+      nodes.points[i] = K.Backproject(f.keys_un[i].pt.x, f.keys_un[i].pt.y, f.depth[i]);
+      nodes.has_point[i] = true;
+    }
+    if (full) ProbStageTraceFeature(ctx.trace, o, s, fc, i, id, source, j, mp, p_prev, q, S, nodes.p_smooth[i]);
+  }
+  return nodes;
+}
+
+// Step 10 nodes: after the n features in index order, 3 samples per line.
+void ProbStageAppendLineNodes(const LineSampleNodes& lines, ProbStageNodes* nodes) {
+  for (size_t i = 0; i < lines.size(); ++i)
+    for (size_t k = 0; k < 3; ++k) {
+      nodes->points.push_back(lines.X[i][k]);
+      nodes->has_point.push_back(lines.has_X[i][k]);
+      nodes->p_smooth.push_back(lines.p_smooth[i][k]);
+    }
+}
+
+// Steps 13 and 15 for the features: suppression / weights, write-back to the matched map points;
+// fills next_prev (the next frame's inheritance) and returns the number suppressed.
+int64_t ProbStageDecideFeatures(StageContext& ctx, const MgdOptions& o, const Frame& f, const ProbStageNodes& nodes,
+                                const std::vector<double>& p, const std::vector<int>& neighbours,
+                                const std::string& stage, bool full, std::vector<double>* next_prev) {
+  trace::TraceWriter& tr = ctx.trace;
+  int64_t suppressed = 0;
+  for (size_t i = 0; i < next_prev->size(); ++i) {
+    const int fi = static_cast<int>(i);
+    if (nodes.p_smooth[i] < 0) continue;  // excluded before this stage
+    (*next_prev)[i] = p[i];
+    const bool suppress = p[i] > o.tau_dyn;
+    const double w = suppress ? 0.0 : KeptWeight(p[i], o);
+    if (full) {  // the node's 3-D point (camera frame): the diffusion is recomputable (issue 32)
+      const Eigen::Vector3d& X = nodes.points[i];
+      tr.ProbabilityUpdate("mgd.diffuse", trace::EntityKind::kFeature, f.FeatureId(fi),
+                           {{"neighbours", double(neighbours[i])}, {"weight", w}, {"has_point", nodes.has_point[i] ? 1.0 : 0.0},
+                            {"x", X.x()}, {"y", X.y()}, {"z", X.z()}},
+                           nodes.p_smooth[i], p[i]);
+    }
+    const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
+    if (mp >= 0 && ctx.map.mp(mp) != nullptr) {
+      if (full) {  // the map point's P (what a later frame's inheritance reads), issue 32
+        const double old_p = ctx.map.mp(mp)->dynamic.p_dynamic;
+        tr.ProbabilityUpdate("mgd.map_point", trace::EntityKind::kMapPoint, "mp" + std::to_string(mp),
+                             {{"feature", double(i)}, {"had_p", old_p >= 0 ? 1.0 : 0.0}}, old_p >= 0 ? old_p : p[i], p[i]);
+      }
+      ctx.frame.SetPointDynamicProbability(mp, p[i], stage);
+    }
+    if (suppress) {
+      ctx.frame.Exclude(fi, stage, "p>tau_dyn");
+      ++suppressed;
+    } else {
+      ctx.frame.SetWeight(fi, w);
+      tr.Decision(stage, trace::EntityKind::kFeature, f.FeatureId(fi), true, "p<=tau_dyn");
+    }
+  }
+  return suppressed;
+}
+
+void ProbStageFrameCounts(trace::TraceWriter& tr, const std::string& stage, const ProbStageNodes& nodes,
+                          int64_t suppressed) {
+  tr.FrameCount(stage, "inherit_prev_frame", nodes.counts[0]);
+  tr.FrameCount(stage, "inherit_map_point", nodes.counts[1]);
+  tr.FrameCount(stage, "inherit_init", nodes.counts[2]);
+  tr.FrameCount(stage, "P_LS_computable", nodes.computable_ls);
+  tr.FrameCount(stage, "P_pro_computable", nodes.computable_pro);
+  tr.FrameCount(stage, "P_mf_computable", nodes.computable_mf);
+  tr.FrameCount(stage, "suppressed", suppressed);
+}
+
 }  // namespace
 
 void ProbabilityStage::Run(StageContext& ctx) {
@@ -69,163 +281,27 @@ void ProbabilityStage::Run(StageContext& ctx) {
   trace::TraceWriter& tr = ctx.trace;
   const bool full = tr.full_enabled();
   const size_t n = f.N();
-  const Frame* prev = ctx.previous;
-  std::vector<Correspondence> corr(n);
-  if (prev != nullptr) corr = MatchPrevious(f, *prev, o.delta, o.match_radius_px, ctx.threads);
-  const bool have_prev_p = prev != nullptr && s.prev_frame == prev->index && s.prev_p.size() == prev->N();
-  Eigen::Vector2d vbar = Eigen::Vector2d::Zero();
-  const int n_vbar = prev != nullptr ? MeanBackgroundVelocity(f, *prev, corr, s.in_box, &vbar) : 0;
-  const bool has_vbar = n_vbar > 0;
-  // F of the initial relative pose (spec E9: the line in frame k is F x^{k-1}).
-  bool has_F = false, has_T = false;
-  Eigen::Matrix3d F = Eigen::Matrix3d::Zero();
-  SE3 T_cur_prev = SE3::Identity();
-  if (prev != nullptr && prev->has_pose && f.has_pose) {
-    T_cur_prev = f.T_cw * prev->T_cw.inverse();
-    has_T = true;
-    if (T_cur_prev.translation().norm() > 1e-9) {
-      const Intrinsics K = ctx.camera.Pinhole();
-      Eigen::Matrix3d Km;
-      Km << K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1;
-      F = geometry::FundamentalFromPose(Km, T_cur_prev.linear(), T_cur_prev.translation());
-      has_F = true;
-    }
-  }
-
-  if (full) TraceFrameInputs(tr, f, prev, n_vbar, vbar, has_T, has_F);
-  std::vector<double> p_smooth(n, -1.0);
-  std::vector<Eigen::Vector3d> points(n, Eigen::Vector3d::Zero());
-  std::vector<bool> has_point(n, false);
-  int64_t counts[3] = {0, 0, 0}, computable_ls = 0, computable_pro = 0, computable_mf = 0;
-  const Intrinsics K = ctx.camera.Pinhole();
-  for (size_t i = 0; i < n; ++i) {
-    const int fi = static_cast<int>(i);
-    if (f.IsExcluded(fi)) continue;
-    const std::string id = f.FeatureId(fi);
-    const int j = corr[i].prev_index;
-    const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
-    // Step 7: inheritance.
-    double p_prev;
-    int source;
-    const MapPoint* point = mp >= 0 ? ctx.map.mp(mp) : nullptr;
-    if (j >= 0 && have_prev_p && s.prev_p[j] >= 0) {
-      p_prev = s.prev_p[j], source = 0;
-    } else if (point != nullptr && point->dynamic.p_dynamic >= 0) {
-      p_prev = point->dynamic.p_dynamic, source = 1;
-    } else {
-      p_prev = s.in_box[i] ? o.p_init_box : o.p_init_free, source = 2;
-    }
-    ++counts[source];
-    // Step 8: cues.
-    Cues c;
-    VelocityDeviation dev;
-    double d_epi = 0;
-    if (j >= 0 && has_vbar) {
-      const cv::Point2f d = f.keys_un[i].pt - prev->keys_un[j].pt;
-      dev = Deviation(Eigen::Vector2d(d.x, d.y), vbar, o);
-      c.has_ls = true;
-      c.p_ls = ProbabilityLS(dev, o);
-    }
-    const ProCue* pro = nullptr;
-    if (mp >= 0) {
-      auto it = s.pro.find(mp);
-      if (it != s.pro.end()) pro = &it->second, c.has_pro = true, c.p_pro = it->second.p;
-    }
-    if (j >= 0 && has_F) {
-      const cv::Point2f a = prev->keys_un[j].pt, b = f.keys_un[i].pt;
-      d_epi = geometry::EpipolarDistance(F, Eigen::Vector2d(a.x, a.y), Eigen::Vector2d(b.x, b.y));
-      c.has_mf = true;
-      c.p_mf = ProbabilityMF(d_epi, o);
-    }
-    computable_ls += c.has_ls, computable_pro += c.has_pro, computable_mf += c.has_mf;
-    const double S = Fuse(c, o);
-    p_smooth[i] = Smooth(p_prev, S, o);
-    if (f.depth[i] > 0) {
-      points[i] = K.Backproject(f.keys_un[i].pt.x, f.keys_un[i].pt.y, f.depth[i]);
-      has_point[i] = true;
-    }
-    if (full) {
-      tr.ProbabilityUpdate("mgd.inherit", trace::EntityKind::kFeature, id,
-                           {{"source", double(source)}, {"prev_index", double(j)}, {"map_point", double(mp)},
-                            {"in_box", double(s.in_box[i])}, {"hamming", double(corr[i].hamming)}},
-                           p_prev, p_prev);
-      tr.ProbabilityUpdate("mgd.P_LS", trace::EntityKind::kFeature, id,
-                           {{"computable", double(c.has_ls)}, {"d_px", dev.d_px}, {"dtheta", dev.dtheta},
-                            {"vbar_u", vbar.x()}, {"vbar_v", vbar.y()}},
-                           0.5, c.has_ls ? c.p_ls : 0.5);
-      tr.ProbabilityUpdate("mgd.P_pro", trace::EntityKind::kFeature, id,
-                           {{"computable", double(c.has_pro)}, {"mean_forward_px", pro ? pro->mean_forward_px : 0.0},
-                            {"mean_backward_px", pro ? pro->mean_backward_px : 0.0},
-                            {"covisible", pro ? double(pro->covisible) : 0.0}, {"kf", pro ? double(pro->kf) : -1.0},
-                            {"source_mp", pro ? double(pro->mp) : -1.0}},
-                           0.5, c.has_pro ? c.p_pro : 0.5);
-      tr.ProbabilityUpdate("mgd.P_mf", trace::EntityKind::kFeature, id,
-                           {{"computable", double(c.has_mf)}, {"d_epi_px", d_epi}}, 0.5, c.has_mf ? c.p_mf : 0.5);
-      tr.ProbabilityUpdate("mgd.fusion", trace::EntityKind::kFeature, id,
-                           {{"w_ls", o.use_ls ? o.w_ls : 0.0}, {"w_pro", o.use_pro ? o.w_pro : 0.0},
-                            {"w_mf", o.use_mf ? o.w_mf : 0.0}},
-                           0.5, S);
-      tr.ProbabilityUpdate("mgd.smooth", trace::EntityKind::kFeature, id, {{"S", S}, {"a", o.a}}, p_prev, p_smooth[i]);
-    }
-  }
+  const ProbStageFrameCues fc = ProbStagePrepareFrame(ctx, o, s, f);
+  if (full) TraceFrameInputs(tr, f, fc.prev, fc.n_vbar, fc.vbar, fc.has_T, fc.has_F);
+  ProbStageNodes nodes = ProbStageFeatureNodes(ctx, o, s, f, fc, full);
   // Step 11: line samples through steps 7-9 (line_samples.h).
-  const LineSampleNodes lines = EvaluateLineSamples(ctx, o, s, has_vbar ? &vbar : nullptr, has_F ? &F : nullptr,
-                                                    has_T ? &T_cur_prev : nullptr, name());
+  const LineSampleNodes lines = EvaluateLineSamples(ctx, o, s, fc.has_vbar ? &fc.vbar : nullptr, fc.has_F ? &fc.F : nullptr,
+                                                    fc.has_T ? &fc.T_cur_prev : nullptr, name());
   // Step 10: diffusion (Jacobi) over the features and line samples with a 3-D point; nodes are
   // the n features in index order, then 3 samples per line.
-  for (size_t i = 0; i < lines.size(); ++i)
-    for (size_t k = 0; k < 3; ++k) {
-      points.push_back(lines.X[i][k]);
-      has_point.push_back(lines.has_X[i][k]);
-      p_smooth.push_back(lines.p_smooth[i][k]);
-    }
-  std::vector<int> neighbours(p_smooth.size(), 0);
-  const std::vector<double> p = o.diffusion ? Diffuse(points, has_point, p_smooth, o.radius_m, &neighbours, ctx.threads)
-                                                : p_smooth;
+  ProbStageAppendLineNodes(lines, &nodes);
+  std::vector<int> neighbours(nodes.p_smooth.size(), 0);
+  const std::vector<double> p = o.diffusion ? Diffuse(nodes.points, nodes.has_point, nodes.p_smooth, o.radius_m,
+                                                      &neighbours, ctx.threads)
+                                            : nodes.p_smooth;
   // Steps 13 and 15: suppression / weights, write-back.
-  int64_t suppressed = 0;
   std::vector<double> next_prev(n, -1.0);
-  for (size_t i = 0; i < n; ++i) {
-    const int fi = static_cast<int>(i);
-    if (p_smooth[i] < 0) continue;  // excluded before this stage
-    next_prev[i] = p[i];
-    const bool suppress = p[i] > o.tau_dyn;
-    const double w = suppress ? 0.0 : KeptWeight(p[i], o);
-    if (full) {  // the node's 3-D point (camera frame): the diffusion is recomputable (issue 32)
-      const Eigen::Vector3d& X = points[i];
-      tr.ProbabilityUpdate("mgd.diffuse", trace::EntityKind::kFeature, f.FeatureId(fi),
-                           {{"neighbours", double(neighbours[i])}, {"weight", w}, {"has_point", has_point[i] ? 1.0 : 0.0},
-                            {"x", X.x()}, {"y", X.y()}, {"z", X.z()}},
-                           p_smooth[i], p[i]);
-    }
-    const int64_t mp = f.outlier[i] ? -1 : f.map_point_ids[i];
-    if (mp >= 0 && ctx.map.mp(mp) != nullptr) {
-      if (full) {  // the map point's P (what a later frame's inheritance reads), issue 32
-        const double old_p = ctx.map.mp(mp)->dynamic.p_dynamic;
-        tr.ProbabilityUpdate("mgd.map_point", trace::EntityKind::kMapPoint, "mp" + std::to_string(mp),
-                             {{"feature", double(i)}, {"had_p", old_p >= 0 ? 1.0 : 0.0}}, old_p >= 0 ? old_p : p[i], p[i]);
-      }
-      ctx.frame.SetPointDynamicProbability(mp, p[i], name());
-    }
-    if (suppress) {
-      ctx.frame.Exclude(fi, name(), "p>tau_dyn");
-      ++suppressed;
-    } else {
-      ctx.frame.SetWeight(fi, w);
-      tr.Decision(name(), trace::EntityKind::kFeature, f.FeatureId(fi), true, "p<=tau_dyn");
-    }
-  }
+  const int64_t suppressed = ProbStageDecideFeatures(ctx, o, f, nodes, p, neighbours, name(), full, &next_prev);
   DecideLines(ctx, o, s, lines, std::vector<double>(p.begin() + static_cast<std::ptrdiff_t>(n), p.end()),
               std::vector<int>(neighbours.begin() + static_cast<std::ptrdiff_t>(n), neighbours.end()), name());
   s.prev_frame = f.index;
   s.prev_p = std::move(next_prev);
-  tr.FrameCount(name(), "inherit_prev_frame", counts[0]);
-  tr.FrameCount(name(), "inherit_map_point", counts[1]);
-  tr.FrameCount(name(), "inherit_init", counts[2]);
-  tr.FrameCount(name(), "P_LS_computable", computable_ls);
-  tr.FrameCount(name(), "P_pro_computable", computable_pro);
-  tr.FrameCount(name(), "P_mf_computable", computable_mf);
-  tr.FrameCount(name(), "suppressed", suppressed);
+  ProbStageFrameCounts(tr, name(), nodes, suppressed);
 }
 
 }  // namespace dynref::mgd

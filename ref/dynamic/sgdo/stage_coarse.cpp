@@ -25,6 +25,139 @@ int PruneCode(const std::string& reason) {
   return 4;
 }
 
+// Non-excluded keypoints (ascending index); their mask instance when the combination uses masks.
+std::vector<int> CoarseStepCandidates(const Frame& f, const DynamicMask* mask, std::vector<CoarseInput>* inputs) {
+  std::vector<int> candidates;
+  for (int i = 0; i < static_cast<int>(f.N()); ++i) {
+    if (f.IsExcluded(i)) continue;
+    candidates.push_back(i);
+    if (mask) (*inputs)[i].instance = mask->InstanceAt(f.keys[i].pt.x, f.keys[i].pt.y);
+  }
+  return candidates;
+}
+
+// b. Every candidate tracked back into k-1 (LK), pruned; F and D on undistorted coordinates.
+std::vector<geometry::LkPair> CoarseStepTrackPairs(const Camera& cam, const Frame& prev, const Frame& f,
+                                                   const std::vector<int>& candidates,
+                                                   const std::vector<CoarseInput>& inputs,
+                                                   const geometry::LkOptions& lk) {
+  std::vector<cv::Point2f> pts;
+  for (int i : candidates) pts.push_back(f.keys[i].pt);
+  std::vector<geometry::LkPair> pairs = geometry::TrackBackward(prev.grey, f.grey, pts, lk);
+  for (size_t c = 0; c < candidates.size(); ++c)
+    geometry::PrunePair(prev.grey, f.grey, inputs[candidates[c]].instance != 0, lk, pairs[c]);
+  if (cam.HasDistortion()) {  // F and D on undistorted coordinates
+    std::vector<cv::Point2f> ua, ub;
+    geometry::UndistortedPairPixels(cam, pairs, &ua, &ub);
+    for (size_t c = 0; c < pairs.size(); ++c) pairs[c].p_prev = ua[c], pairs[c].p_cur = ub[c];
+  }
+  return pairs;
+}
+
+// c. RANSAC on the usable pairs; f_inlier per pair.
+geometry::RansacResult CoarseStepFitF(const std::vector<geometry::LkPair>& pairs, const geometry::RansacOptions& ransac,
+                                      Rng& rng, std::vector<geometry::Correspondence>* usable,
+                                      std::vector<uint8_t>* f_inlier) {
+  std::vector<size_t> usable_of;  // index into pairs
+  for (size_t c = 0; c < pairs.size(); ++c)
+    if (pairs[c].usable_for_F()) {
+      usable->push_back({{pairs[c].p_prev.x, pairs[c].p_prev.y}, {pairs[c].p_cur.x, pairs[c].p_cur.y}});
+      usable_of.push_back(c);
+    }
+  const geometry::RansacResult F = geometry::RansacFundamental(*usable, ransac, rng);
+  f_inlier->assign(pairs.size(), 0);
+  for (size_t u = 0; u < usable_of.size() && F.valid; ++u) (*f_inlier)[usable_of[u]] = F.inliers[u];
+  return F;
+}
+
+void CoarseStepTraceF(trace::TraceWriter& tr, const Frame& f, const geometry::RansacResult& F, size_t usable) {
+  tr.ProbabilityUpdate("sgdo.F", trace::EntityKind::kFrame, "f" + std::to_string(f.index),
+                       {{"F00", F.F(0, 0)}, {"F01", F.F(0, 1)}, {"F02", F.F(0, 2)}, {"F10", F.F(1, 0)},
+                        {"F11", F.F(1, 1)}, {"F12", F.F(1, 2)}, {"F20", F.F(2, 0)}, {"F21", F.F(2, 1)},
+                        {"F22", F.F(2, 2)}, {"usable", static_cast<double>(usable)},
+                        {"inliers", static_cast<double>(F.inlier_count)}},
+                       0.0, F.valid ? 1.0 : 0.0);
+}
+
+// A candidate record when there are no pairs (no previous frame image, issue 32).
+void CoarseStepTraceNoPairs(trace::TraceWriter& tr, const Frame& f, const std::vector<int>& candidates,
+                            const std::vector<CoarseInput>& inputs, double th_epi_px) {
+  for (int i : candidates)
+    tr.ProbabilityUpdate("sgdo.epipolar", trace::EntityKind::kFeature, f.FeatureId(i),
+                         {{"u_prev", 0.0}, {"v_prev", 0.0}, {"u_cur", f.keys[i].pt.x}, {"v_cur", f.keys[i].pt.y},
+                          {"D_px", 0.0}, {"th_epi_px", th_epi_px},
+                          {"instance", static_cast<double>(inputs[i].instance)}, {"used_for_F", 0.0},
+                          {"F_inlier", 0.0}, {"patch_sad", 0.0}, {"tracked", 0.0}, {"F_valid", 0.0},
+                          {"prune", static_cast<double>(kPruneNoPrevious)}, {"tested", 0.0}},
+                         0.0, 0.5);
+}
+
+// d. Epipolar distance per tracked keypoint (or why there is none); returns the number tracked.
+int64_t CoarseStepDistances(trace::TraceWriter& tr, bool full, const Frame& f, const std::vector<geometry::LkPair>& pairs,
+                            const std::vector<int>& candidates, const geometry::RansacResult& F,
+                            const std::vector<uint8_t>& f_inlier, double th_epi_px, std::vector<CoarseInput>* inputs) {
+  int64_t tracked = 0;
+  for (size_t c = 0; c < pairs.size(); ++c) {
+    const geometry::LkPair& pr = pairs[c];
+    const int i = candidates[c];
+    CoarseInput& in = (*inputs)[i];
+    const bool flow_pruned = pr.prune_reason == "border" || pr.prune_reason == "patch-sad";
+    if (pr.tracked) ++tracked;
+    if (!pr.tracked) in.no_distance = "no-pair";
+    else if (flow_pruned) in.no_distance = "pruned";
+    else if (!F.valid) in.no_distance = "no-F";
+    const bool test = pr.tracked && !flow_pruned && F.valid;
+    if (test) {
+      in.has_distance = true;
+      in.epipolar_distance_px = geometry::EpipolarDistance(F.F, {pr.p_prev.x, pr.p_prev.y}, {pr.p_cur.x, pr.p_cur.y});
+    }
+    const bool dyn = test && in.epipolar_distance_px > th_epi_px;
+    // p(dynamic): 1 geometric-dynamic, 0 static, 0.5 not tested (no pair, pruned flow, no F).
+    if (full)
+      tr.ProbabilityUpdate("sgdo.epipolar", trace::EntityKind::kFeature, f.FeatureId(i),
+                           {{"u_prev", pr.p_prev.x}, {"v_prev", pr.p_prev.y}, {"u_cur", pr.p_cur.x},
+                            {"v_cur", pr.p_cur.y}, {"D_px", in.epipolar_distance_px},
+                            {"th_epi_px", th_epi_px},
+                            {"instance", static_cast<double>(in.instance)},
+                            {"used_for_F", pr.usable_for_F() ? 1.0 : 0.0},
+                            {"F_inlier", f_inlier[c] ? 1.0 : 0.0}, {"patch_sad", pr.patch_sad},
+                            {"tracked", pr.tracked ? 1.0 : 0.0}, {"F_valid", F.valid ? 1.0 : 0.0},
+                            {"prune", static_cast<double>(PruneCode(pr.prune_reason))}, {"tested", test ? 1.0 : 0.0}},
+                           0.0, test ? (dyn ? 1.0 : 0.0) : 0.5);
+  }
+  return tracked;
+}
+
+// e. Combination and decisions (candidates only; already excluded keys are left alone); returns
+// the number of decisions per reason.
+std::map<std::string, int64_t> CoarseStepDecide(StageContext& ctx, const std::string& stage, const Frame& f,
+                                                const std::vector<int>& candidates,
+                                                const std::vector<CoarseInput>& inputs, const CoarseOptions& coarse,
+                                                bool full) {
+  trace::TraceWriter& tr = ctx.trace;
+  std::vector<CoarseInput> cand_inputs;
+  for (int i : candidates) cand_inputs.push_back(inputs[i]);
+  const CoarseResult res = CombineCoarse(cand_inputs, coarse);
+  for (const auto& v : res.votes) {
+    if (!full) break;
+    const std::string id = "i" + std::to_string(f.index) + "." + std::to_string(v.instance);
+    tr.ProbabilityUpdate("sgdo.vote", trace::EntityKind::kInstanceMask, id,
+                         {{"dynamic", static_cast<double>(v.dynamic)},
+                          {"paired", static_cast<double>(v.paired)}, {"vote_ratio", coarse.vote_ratio}},
+                         0.0, v.moving ? 1.0 : 0.0);  // p(dynamic) of the instance
+  }
+  std::map<std::string, int64_t> by_reason;
+  for (size_t c = 0; c < candidates.size(); ++c) {
+    const CoarseDecision& d = res.decisions[c];
+    ++by_reason[d.reason];
+    if (d.keep)
+      tr.Decision(stage, trace::EntityKind::kFeature, f.FeatureId(candidates[c]), true, d.reason);
+    else
+      ctx.frame.Exclude(candidates[c], stage, d.reason);
+  }
+  return by_reason;
+}
+
 }  // namespace
 
 CoarseStage::CoarseStage(const ParamMap& p, std::shared_ptr<Blackboard> board)
@@ -73,111 +206,30 @@ void CoarseStage::Run(StageContext& ctx) {
   trace::TraceWriter& tr = ctx.trace;
 
   std::vector<CoarseInput> inputs(n);
-  std::vector<int> candidates;  // non-excluded keypoints, ascending index
-  for (int i = 0; i < n; ++i) {
-    if (f.IsExcluded(i)) continue;
-    candidates.push_back(i);
-    if (mask) inputs[i].instance = mask->InstanceAt(f.keys[i].pt.x, f.keys[i].pt.y);
-  }
+  const std::vector<int> candidates = CoarseStepCandidates(f, mask, &inputs);  // non-excluded, ascending
 
   std::vector<geometry::LkPair> pairs;
   const Frame* prev = ctx.previous;
   if (prev != nullptr && !prev->grey.empty() && !candidates.empty()) {
-    std::vector<cv::Point2f> pts;
-    for (int i : candidates) pts.push_back(f.keys[i].pt);
     lk_.threads = ctx.threads;
-    pairs = geometry::TrackBackward(prev->grey, f.grey, pts, lk_);
-    for (size_t c = 0; c < candidates.size(); ++c)
-      geometry::PrunePair(prev->grey, f.grey, inputs[candidates[c]].instance != 0, lk_, pairs[c]);
-    if (ctx.camera.HasDistortion()) {  // F and D on undistorted coordinates
-      std::vector<cv::Point2f> ua, ub;
-      geometry::UndistortedPairPixels(ctx.camera, pairs, &ua, &ub);
-      for (size_t c = 0; c < pairs.size(); ++c) pairs[c].p_prev = ua[c], pairs[c].p_cur = ub[c];
-    }
+    pairs = CoarseStepTrackPairs(ctx.camera, *prev, f, candidates, inputs, lk_);
   }
 
   // c. RANSAC on the usable pairs.
   std::vector<geometry::Correspondence> usable;
-  std::vector<size_t> usable_of;  // index into pairs
-  for (size_t c = 0; c < pairs.size(); ++c)
-    if (pairs[c].usable_for_F()) {
-      usable.push_back({{pairs[c].p_prev.x, pairs[c].p_prev.y}, {pairs[c].p_cur.x, pairs[c].p_cur.y}});
-      usable_of.push_back(c);
-    }
-  const geometry::RansacResult F = geometry::RansacFundamental(usable, ransac_, rng_);
-  std::vector<uint8_t> f_inlier(pairs.size(), 0);
-  for (size_t u = 0; u < usable_of.size() && F.valid; ++u) f_inlier[usable_of[u]] = F.inliers[u];
+  std::vector<uint8_t> f_inlier;
+  const geometry::RansacResult F = CoarseStepFitF(pairs, ransac_, rng_, &usable, &f_inlier);
 
   // d. Epipolar distance per tracked keypoint, traced for every candidate (also when there is
   // none: why). F itself is traced per frame.
   // (Also on a frame without a previous image: every candidate then has a record too, issue 32.)
   const bool full = tr.full_enabled();
-  if (full && !candidates.empty())
-    tr.ProbabilityUpdate("sgdo.F", trace::EntityKind::kFrame, "f" + std::to_string(f.index),
-                         {{"F00", F.F(0, 0)}, {"F01", F.F(0, 1)}, {"F02", F.F(0, 2)}, {"F10", F.F(1, 0)},
-                          {"F11", F.F(1, 1)}, {"F12", F.F(1, 2)}, {"F20", F.F(2, 0)}, {"F21", F.F(2, 1)},
-                          {"F22", F.F(2, 2)}, {"usable", static_cast<double>(usable.size())},
-                          {"inliers", static_cast<double>(F.inlier_count)}},
-                         0.0, F.valid ? 1.0 : 0.0);
-  if (full && pairs.empty())
-    for (int i : candidates)
-      tr.ProbabilityUpdate("sgdo.epipolar", trace::EntityKind::kFeature, f.FeatureId(i),
-                           {{"u_prev", 0.0}, {"v_prev", 0.0}, {"u_cur", f.keys[i].pt.x}, {"v_cur", f.keys[i].pt.y},
-                            {"D_px", 0.0}, {"th_epi_px", coarse_.epipolar_threshold_px},
-                            {"instance", static_cast<double>(inputs[i].instance)}, {"used_for_F", 0.0},
-                            {"F_inlier", 0.0}, {"patch_sad", 0.0}, {"tracked", 0.0}, {"F_valid", 0.0},
-                            {"prune", static_cast<double>(kPruneNoPrevious)}, {"tested", 0.0}},
-                           0.0, 0.5);
-  int64_t tracked = 0;
-  for (size_t c = 0; c < pairs.size(); ++c) {
-    const geometry::LkPair& pr = pairs[c];
-    const int i = candidates[c];
-    CoarseInput& in = inputs[i];
-    const bool flow_pruned = pr.prune_reason == "border" || pr.prune_reason == "patch-sad";
-    if (pr.tracked) ++tracked;
-    if (!pr.tracked) in.no_distance = "no-pair";
-    else if (flow_pruned) in.no_distance = "pruned";
-    else if (!F.valid) in.no_distance = "no-F";
-    const bool test = pr.tracked && !flow_pruned && F.valid;
-    if (test) {
-      in.has_distance = true;
-      in.epipolar_distance_px = geometry::EpipolarDistance(F.F, {pr.p_prev.x, pr.p_prev.y}, {pr.p_cur.x, pr.p_cur.y});
-    }
-    const bool dyn = test && in.epipolar_distance_px > coarse_.epipolar_threshold_px;
-    // p(dynamic): 1 geometric-dynamic, 0 static, 0.5 not tested (no pair, pruned flow, no F).
-    if (full)
-      tr.ProbabilityUpdate("sgdo.epipolar", trace::EntityKind::kFeature, f.FeatureId(i),
-                           {{"u_prev", pr.p_prev.x}, {"v_prev", pr.p_prev.y}, {"u_cur", pr.p_cur.x},
-                            {"v_cur", pr.p_cur.y}, {"D_px", in.epipolar_distance_px},
-                            {"th_epi_px", coarse_.epipolar_threshold_px},
-                            {"instance", static_cast<double>(in.instance)},
-                            {"used_for_F", pr.usable_for_F() ? 1.0 : 0.0},
-                            {"F_inlier", f_inlier[c] ? 1.0 : 0.0}, {"patch_sad", pr.patch_sad},
-                            {"tracked", pr.tracked ? 1.0 : 0.0}, {"F_valid", F.valid ? 1.0 : 0.0},
-                            {"prune", static_cast<double>(PruneCode(pr.prune_reason))}, {"tested", test ? 1.0 : 0.0}},
-                           0.0, test ? (dyn ? 1.0 : 0.0) : 0.5);
-  }
+  if (full && !candidates.empty()) CoarseStepTraceF(tr, f, F, usable.size());
+  if (full && pairs.empty()) CoarseStepTraceNoPairs(tr, f, candidates, inputs, coarse_.epipolar_threshold_px);
+  const int64_t tracked =
+      CoarseStepDistances(tr, full, f, pairs, candidates, F, f_inlier, coarse_.epipolar_threshold_px, &inputs);
   // e. Combination and decisions (candidates only; already excluded keys are left alone).
-  std::vector<CoarseInput> cand_inputs;
-  for (int i : candidates) cand_inputs.push_back(inputs[i]);
-  const CoarseResult res = CombineCoarse(cand_inputs, coarse_);
-  for (const auto& v : res.votes) {
-    if (!full) break;
-    const std::string id = "i" + std::to_string(f.index) + "." + std::to_string(v.instance);
-    tr.ProbabilityUpdate("sgdo.vote", trace::EntityKind::kInstanceMask, id,
-                         {{"dynamic", static_cast<double>(v.dynamic)},
-                          {"paired", static_cast<double>(v.paired)}, {"vote_ratio", coarse_.vote_ratio}},
-                         0.0, v.moving ? 1.0 : 0.0);  // p(dynamic) of the instance
-  }
-  std::map<std::string, int64_t> by_reason;
-  for (size_t c = 0; c < candidates.size(); ++c) {
-    const CoarseDecision& d = res.decisions[c];
-    ++by_reason[d.reason];
-    if (d.keep)
-      tr.Decision(name(), trace::EntityKind::kFeature, f.FeatureId(candidates[c]), true, d.reason);
-    else
-      ctx.frame.Exclude(candidates[c], name(), d.reason);
-  }
+  const std::map<std::string, int64_t> by_reason = CoarseStepDecide(ctx, name(), f, candidates, inputs, coarse_, full);
   int64_t usable_count = static_cast<int64_t>(usable.size());
   tr.FrameCount(name(), "tracked", tracked);
   tr.FrameCount(name(), "usable_for_F", usable_count);
