@@ -11,7 +11,7 @@
 #include "core/error.h"
 #include "core/format.h"
 #include "dense/pcd_io.h"
-#include "dense/ply_writer.h"
+#include "io/ply.h"
 #include "eval/map_eval.h"
 #include "eval/trajectory_eval.h"
 #include "io/trajectory.h"
@@ -40,7 +40,7 @@ int RunMapEval(const MapEvalArgs& a) {
     if (!fs::exists(a.gt + "/gt/" + f))
       throw InputError(a.gt + "/gt/" + f, "missing: --gt needs a sequence written by dynref synth (scene ground truth)");
   const std::string traj = a.trajectory.empty() ? (fs::path(a.map).parent_path() / "trajectory.txt").string() : a.trajectory;
-  const dense::PointCloud cloud = ext == ".ply" ? dense::ReadPly(a.map) : dense::ReadPcd(a.map);
+  const dense::PointCloud cloud = ext == ".ply" ? ReadPly(a.map) : dense::ReadPcd(a.map);
   // Accuracy and ghost fraction of no points are undefined, not 0 (issue 37).
   if (cloud.empty()) throw InputError(a.map, "the map has 0 points: nothing to evaluate");
   // The map lives in the run's world frame, anchored at its first camera (eval/map_eval.h).
@@ -50,9 +50,9 @@ int RunMapEval(const MapEvalArgs& a) {
   std::vector<Eigen::Vector3d> map;
   map.reserve(cloud.size());
   for (const auto& p : cloud) map.push_back(T * Eigen::Vector3d(p.x, p.y, p.z));
-  const MapEvalResult r = EvaluateMap(map, dense::ReadPlyMesh(a.gt + "/gt/static_scene.ply"),
-                                      dense::ReadPly(a.gt + "/gt/static_observed.ply"),
-                                      dense::ReadPly(a.gt + "/gt/movers_observed.ply"), a.options);
+  const MapEvalResult r = EvaluateMap(map, ReadPlyMesh(a.gt + "/gt/static_scene.ply"),
+                                      ReadPly(a.gt + "/gt/static_observed.ply"),
+                                      ReadPly(a.gt + "/gt/movers_observed.ply"), a.options);
   std::ostringstream o;
   o << "dynref map-eval\n  map            " << a.map << "  (" << r.map_points << " points)\n"
     << "  aligned with   " << traj << "  (" << (a.align == "first" ? "first camera onto its true pose" : "SE(3) ATE fit")

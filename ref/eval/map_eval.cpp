@@ -41,13 +41,13 @@ struct MeshDistance::Impl {
 
 namespace {
 
-Eigen::Vector3d Vertex(const dense::TriangleMesh& m, uint32_t i) {
+Eigen::Vector3d Vertex(const TriangleMesh& m, uint32_t i) {
   return Eigen::Vector3d(m.vertices[i][0], m.vertices[i][1], m.vertices[i][2]);
 }
 
 }  // namespace
 
-MeshDistance::MeshDistance(const dense::TriangleMesh& mesh, double sample_m)
+MeshDistance::MeshDistance(const TriangleMesh& mesh, double sample_m)
     : mesh_(mesh), sample_m_(sample_m), impl_(new Impl) {
   // Barycentric grid with n subdivisions per triangle, n = ceil(longest edge / s): every point of
   // the triangle lies within s of a sample, so the true closest triangle always has a sample
@@ -101,14 +101,14 @@ SE3 MapToGroundTruth(const TumTrajectory& gt, const TumTrajectory& est, MapAlign
   return T;
 }
 
-MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const dense::TriangleMesh& static_mesh,
-                          const dense::PointCloud& static_observed, const dense::PointCloud& movers,
+MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const TriangleMesh& static_mesh,
+                          const PointCloud& static_observed, const PointCloud& movers,
                           const MapEvalOptions& o) {
   return EvaluateMap(map, MeshDistance(static_mesh, o.sample_m), static_observed, movers, o);
 }
 
 MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const MeshDistance& to_static,
-                          const dense::PointCloud& static_observed, const dense::PointCloud& movers,
+                          const PointCloud& static_observed, const PointCloud& movers,
                           const MapEvalOptions& o) {
   MapEvalResult r;
   r.map_points = map.size();

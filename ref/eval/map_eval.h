@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "core/se3.h"
-#include "dense/ply_writer.h"
 #include "eval/statistics.h"
+#include "io/ply.h"
 #include "io/trajectory.h"
 
 namespace dynref {
@@ -39,13 +39,13 @@ struct MapEvalResult {
 // closest point of every candidate triangle; Ericson, Real-Time Collision Detection, 5.1.5).
 class MeshDistance {
  public:
-  MeshDistance(const dense::TriangleMesh& mesh, double sample_m);
+  MeshDistance(const TriangleMesh& mesh, double sample_m);
   ~MeshDistance();
   double Distance(const Eigen::Vector3d& q) const;
 
  private:
   struct Impl;
-  const dense::TriangleMesh& mesh_;
+  const TriangleMesh& mesh_;
   double sample_m_;
   Impl* impl_;
 };
@@ -66,11 +66,11 @@ SE3 MapToGroundTruth(const TumTrajectory& gt, const TumTrajectory& est, MapAlign
 // `map` already in the ground-truth frame; static_distance built on the static scene mesh (build it
 // once when several maps of one sequence are evaluated).
 MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const MeshDistance& static_distance,
-                          const dense::PointCloud& static_observed, const dense::PointCloud& movers,
+                          const PointCloud& static_observed, const PointCloud& movers,
                           const MapEvalOptions& options);
 // The same, building the mesh index with options.sample_m.
-MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const dense::TriangleMesh& static_mesh,
-                          const dense::PointCloud& static_observed, const dense::PointCloud& movers,
+MapEvalResult EvaluateMap(const std::vector<Eigen::Vector3d>& map, const TriangleMesh& static_mesh,
+                          const PointCloud& static_observed, const PointCloud& movers,
                           const MapEvalOptions& options);
 
 }  // namespace dynref

@@ -13,7 +13,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/version.h"
-#include "dense/ply_writer.h"
+#include "io/ply.h"
 #include "dynamic/semantic/components.h"
 #include "eval/map_eval.h"
 #include "io/mask_format.h"
@@ -140,16 +140,16 @@ void RunPreset(SemanticRun& t, Workspace& ws, const std::string& preset) {
   const std::string seq = ws.EnsureSequence(preset);
   SemanticCell& c = t.cells[preset];
   const TumTrajectory gt = ReadTumTrajectory(seq + "/groundtruth.txt");
-  const dense::TriangleMesh mesh = dense::ReadPlyMesh(seq + "/gt/static_scene.ply");
+  const dense::TriangleMesh mesh = ReadPlyMesh(seq + "/gt/static_scene.ply");
   const MeshDistance to_static(mesh, MapEvalOptions{}.sample_m);  // one index for the three maps
-  const dense::PointCloud observed = dense::ReadPly(seq + "/gt/static_observed.ply");
-  const dense::PointCloud movers = dense::ReadPly(seq + "/gt/movers_observed.ply");
+  const dense::PointCloud observed = ReadPly(seq + "/gt/static_observed.ply");
+  const dense::PointCloud movers = ReadPly(seq + "/gt/movers_observed.ply");
   for (size_t v = 0; v < MapVariants().size(); ++v) {
     const RunSummary s = ws.Run(seq, preset + "/" + MapVariants()[v].config, configs[v], MapVariants()[v].label);
     c.runs.push_back(s);
     if (v == 0)
       for (const auto& [file, what] : StageFiles()) c.mb[file].push_back(FileMB(s.run_dir + "/" + file));
-    const dense::PointCloud cloud = dense::ReadPly(s.run_dir + "/" + MapVariants()[v].map_file);
+    const dense::PointCloud cloud = ReadPly(s.run_dir + "/" + MapVariants()[v].map_file);
     const SE3 T = MapToGroundTruth(gt, ReadTumTrajectory(s.run_dir + "/trajectory.txt"), MapAlign::kFirstCamera);
     std::vector<Eigen::Vector3d> map;
     map.reserve(cloud.size());

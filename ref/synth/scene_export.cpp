@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "dense/ply_writer.h"
+#include "io/ply.h"
 
 namespace dynref::synth {
 namespace {
@@ -13,10 +13,10 @@ int64_t VoxelKey(const Eigen::Vector3d& p) {
   return (cell(p.x()) << 42) | (cell(p.y()) << 21) | cell(p.z());
 }
 
-dense::ColoredPoint VoxelCentre(int64_t key, uint8_t r, uint8_t g, uint8_t b) {
+ColoredPoint VoxelCentre(int64_t key, uint8_t r, uint8_t g, uint8_t b) {
   const int64_t mask = (int64_t{1} << 21) - 1;
   const auto centre = [](int64_t c) { return static_cast<float>((static_cast<double>(c - (int64_t{1} << 20)) + 0.5) * kObservedVoxelM); };
-  dense::ColoredPoint p;
+  ColoredPoint p;
   p.x = centre((key >> 42) & mask), p.y = centre((key >> 21) & mask), p.z = centre(key & mask);
   p.r = r, p.g = g, p.b = b;
   return p;
@@ -41,7 +41,7 @@ void SceneGeometryRecorder::AddFrame(const std::vector<DrawItem>& items, const s
 }
 
 void SceneGeometryRecorder::Write(const std::string& gt_dir) const {
-  dense::TriangleMesh mesh;
+  TriangleMesh mesh;
   for (size_t k = 0; k < last_items_.size(); ++k) {
     if (k < item_ever_moved_.size() && item_ever_moved_[k]) continue;
     const DrawItem& it = last_items_[k];
@@ -53,18 +53,18 @@ void SceneGeometryRecorder::Write(const std::string& gt_dir) const {
     for (const MeshTri& t : it.mesh->tris)
       mesh.faces.push_back({base + static_cast<uint32_t>(t.a), base + static_cast<uint32_t>(t.b), base + static_cast<uint32_t>(t.c)});
   }
-  dense::WritePlyMesh(gt_dir + "/static_scene.ply", mesh,
-                      "dynref synth: draw items that never move in this sequence, world frame (z up), metres");
+  WritePlyMesh(gt_dir + "/static_scene.ply", mesh,
+               "dynref synth: draw items that never move in this sequence, world frame (z up), metres");
   std::set<int64_t> still, movers;
   for (const auto& [instance, keys] : observed_)
     (instances_ever_moved_.count(instance) ? movers : still).insert(keys.begin(), keys.end());
-  dense::PointCloud a, b;
+  PointCloud a, b;
   for (int64_t k : still) a.push_back(VoxelCentre(k, 160, 160, 160));
   for (int64_t k : movers) b.push_back(VoxelCentre(k, 220, 40, 40));
-  dense::WritePly(gt_dir + "/static_observed.ply", a, dense::PlyFormat::kBinaryLittleEndian,
-                  "dynref synth: 2 cm voxel centres of static surfaces seen by the camera (noise-free depth)");
-  dense::WritePly(gt_dir + "/movers_observed.ply", b, dense::PlyFormat::kBinaryLittleEndian,
-                  "dynref synth: 2 cm voxel centres of surfaces of instances that move, at every frame seen");
+  WritePly(gt_dir + "/static_observed.ply", a, PlyFormat::kBinaryLittleEndian,
+           "dynref synth: 2 cm voxel centres of static surfaces seen by the camera (noise-free depth)");
+  WritePly(gt_dir + "/movers_observed.ply", b, PlyFormat::kBinaryLittleEndian,
+           "dynref synth: 2 cm voxel centres of surfaces of instances that move, at every frame seen");
 }
 
 }  // namespace dynref::synth

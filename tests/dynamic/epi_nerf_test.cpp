@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "dense/ply_writer.h"
+#include "io/ply.h"
 #include "dynamic/epi/nerf_export.h"
 #include "io/camera.h"
 #include "io/trajectory.h"
@@ -131,7 +131,7 @@ TEST_CASE("epi nerf: an epi run end to end exports keyframe images, dynamic mask
   }
   CHECK(masked_frames > 0);  // the walkers' masks were voted dynamic in some keyframes
   const nlohmann::json& d = j["dynref"];
-  const dense::PointCloud points = dense::ReadPly(nerf + "/" + j["ply_file_path"].get<std::string>());
+  const PointCloud points = ReadPly(nerf + "/" + j["ply_file_path"].get<std::string>());
   CHECK(points.size() == d["points"].get<size_t>());
   CHECK(points.size() > 20);
   CHECK(d["triangulation"]["ok"].get<int64_t>() >= static_cast<int64_t>(points.size()));

@@ -5,7 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "core/rng.h"
-#include "dense/ply_writer.h"
+#include "io/ply.h"
 #include "dynamic/sgdo/register.h"
 #include "method/session.h"
 #include "test_support.h"
@@ -269,7 +269,7 @@ TEST_CASE("sgdo stages: dense map stage writes a PLY of the unmasked keyframe pi
   dense->Finish(map, end);
   REQUIRE(end.outputs().size() == 1);
   CHECK(end.outputs()[0].path == "dense_map.ply");  // relative to the run folder
-  const dense::PointCloud cloud = dense::ReadPly(dir + "/dense_map.ply");
+  const PointCloud cloud = ReadPly(dir + "/dense_map.ply");
   REQUIRE(!cloud.empty());
   for (const auto& p : cloud) CHECK(p.z > 1.9f);  // no person point (1.5 m) in the static map
 }

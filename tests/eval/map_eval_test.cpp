@@ -5,7 +5,7 @@
 #include <fstream>
 
 #include "core/rng.h"
-#include "dense/ply_writer.h"
+#include "io/ply.h"
 #include "eval/map_eval.h"
 #include "test_support.h"
 
@@ -14,14 +14,14 @@ using namespace dynref;
 namespace {
 
 // Unit square in the z = 0 plane as two triangles.
-dense::TriangleMesh Square() {
-  dense::TriangleMesh m;
+TriangleMesh Square() {
+  TriangleMesh m;
   m.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
   m.faces = {{0, 1, 2}, {0, 2, 3}};
   return m;
 }
 
-double BruteForce(const dense::TriangleMesh& m, const Eigen::Vector3d& q) {
+double BruteForce(const TriangleMesh& m, const Eigen::Vector3d& q) {
   double best = 1e300;
   for (const auto& f : m.faces) {
     const auto v = [&](uint32_t i) { return Eigen::Vector3d(m.vertices[i][0], m.vertices[i][1], m.vertices[i][2]); };
@@ -45,7 +45,7 @@ TEST_CASE("map-eval: closest point on a triangle in each Voronoi region") {
 }
 
 TEST_CASE("map-eval: mesh distance equals a brute-force reference near and far from the mesh") {
-  dense::TriangleMesh m = Square();
+  TriangleMesh m = Square();
   m.vertices.push_back({0.5f, 0.5f, 1.0f});  // a tent over the square
   m.faces.push_back({0, 1, 4});
   const MeshDistance d(m, 0.02);
@@ -61,8 +61,8 @@ TEST_CASE("map-eval: mesh distance equals a brute-force reference near and far f
 }
 
 TEST_CASE("map-eval: accuracy, completeness and ghosts of a hand-built map", "[cli]") {
-  const dense::TriangleMesh plane = Square();
-  dense::PointCloud observed, movers;
+  const TriangleMesh plane = Square();
+  PointCloud observed, movers;
   for (int i = 0; i < 10; ++i)
     for (int j = 0; j < 10; ++j) observed.push_back({0.05f + 0.1f * i, 0.05f + 0.1f * j, 0.f});
   movers.push_back({0.5f, 0.5f, 0.5f});  // a person stood 0.5 m above the middle
@@ -88,12 +88,12 @@ TEST_CASE("map-eval: accuracy, completeness and ghosts of a hand-built map", "[c
 
 TEST_CASE("map-eval: PLY mesh round trip and bad mesh files") {
   const std::string dir = test::ScratchDir("ply_mesh");
-  const dense::TriangleMesh m = Square();
-  dense::WritePlyMesh(dir + "/m.ply", m, "a comment");
-  const dense::TriangleMesh back = dense::ReadPlyMesh(dir + "/m.ply");
+  const TriangleMesh m = Square();
+  WritePlyMesh(dir + "/m.ply", m, "a comment");
+  const TriangleMesh back = ReadPlyMesh(dir + "/m.ply");
   CHECK(back.vertices == m.vertices);
   CHECK(back.faces == m.faces);
-  CHECK_THROWS_WITH(dense::ReadPlyMesh(test::WriteText(dir + "/x.ply", "ply\nformat ascii 1.0\nend_header\n")),
+  CHECK_THROWS_WITH(ReadPlyMesh(test::WriteText(dir + "/x.ply", "ply\nformat ascii 1.0\nend_header\n")),
                     Catch::Contains("x.ply") && Catch::Contains("not a dynref triangle-mesh PLY"));
 }
 
@@ -124,19 +124,19 @@ TEST_CASE("map-eval CLI: an empty map, a NaN point, undeclared vertices and a ne
   REQUIRE(test::RunDynref("synth --preset walking_xyz --frames 3 --seed 1 --out " + dir + "/seq").exit_code == 0);
   const std::string tail = " --gt " + dir + "/seq --trajectory " + dir + "/seq/groundtruth.txt";
   // 0 vertices: was "accuracy 0.0000".
-  dense::WritePly(dir + "/empty.ply", {});
+  WritePly(dir + "/empty.ply", {});
   test::ExpectBadInput("map-eval " + dir + "/empty.ply" + tail, "empty.ply: the map has 0 points");
   // A NaN point: was "mean nan".
-  dense::PointCloud cloud(120);
+  PointCloud cloud(120);
   for (size_t i = 0; i < cloud.size(); ++i) cloud[i].x = 0.01f * float(i);
-  dense::PointCloud with_nan = cloud;
+  PointCloud with_nan = cloud;
   with_nan[7].z = std::nanf("");
-  dense::WritePly(dir + "/nan.ply", with_nan);
+  WritePly(dir + "/nan.ply", with_nan);
   test::ExpectBadInput("map-eval " + dir + "/nan.ply" + tail, "nan.ply: vertex 7 has a non-finite coordinate");
-  dense::WritePly(dir + "/nan_ascii.ply", with_nan, dense::PlyFormat::kAscii);
+  WritePly(dir + "/nan_ascii.ply", with_nan, PlyFormat::kAscii);
   test::ExpectBadInput("map-eval " + dir + "/nan_ascii.ply" + tail, "nan_ascii.ply:18: vertex 7 has a non-finite");
   // The header says 100, the file holds 120: was read as 100 points.
-  dense::WritePly(dir + "/ok.ply", cloud);
+  WritePly(dir + "/ok.ply", cloud);
   std::string bytes = test::ReadFileBytes(dir + "/ok.ply");
   const auto patch = [&](const std::string& to, const std::string& name) {
     std::string s = bytes;

@@ -11,7 +11,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
-#include "dense/ply_writer.h"
+#include "io/ply.h"
 #include "dynamic/epi/stages.h"
 #include "map/map.h"
 #include "io/image_file.h"
@@ -70,7 +70,7 @@ void NerfModule::Finish(const Map& map, RunEnd& end) {
   std::filesystem::create_directories(dir + "/images");
   std::filesystem::create_directories(dir + "/masks");
   std::vector<NerfFrame> frames;
-  dense::PointCloud cloud;
+  PointCloud cloud;
   int64_t counts[5] = {0, 0, 0, 0, 0}, matches = 0, l_geo_terms = 0;
   double l_geo_sum = 0;
   const Keyframe* prev = nullptr;
@@ -123,7 +123,7 @@ void NerfModule::Finish(const Map& map, RunEnd& end) {
         Eigen::Vector3d c;
         const cv::Point2f& raw = k.raw[static_cast<size_t>(m.i)];
         if (!SampleRgb(k.rgb, raw.x, raw.y, &c)) continue;
-        dense::ColoredPoint p;
+        ColoredPoint p;
         p.x = static_cast<float>(X.x()), p.y = static_cast<float>(X.y()), p.z = static_cast<float>(X.z());
         p.r = static_cast<uint8_t>(std::lround(c.x() * 255)), p.g = static_cast<uint8_t>(std::lround(c.y() * 255)),
         p.b = static_cast<uint8_t>(std::lround(c.z() * 255));
@@ -143,8 +143,8 @@ void NerfModule::Finish(const Map& map, RunEnd& end) {
     prev_id = id;
     prev_T_cw = T_cw;
   }
-  dense::WritePly(dir + "/sparse_points.ply", cloud, dense::PlyFormat::kBinaryLittleEndian,
-                  "dynref epi.nerf pseudo-point cloud (seed 004 Sec. 3.3.2)");
+  WritePly(dir + "/sparse_points.ply", cloud, PlyFormat::kBinaryLittleEndian,
+           "dynref epi.nerf pseudo-point cloud (seed 004 Sec. 3.3.2)");
   nlohmann::json extra;
   extra["l_geo"] = l_geo_terms > 0 ? l_geo_sum / static_cast<double>(l_geo_terms) : 0.0;
   extra["l_geo_terms"] = l_geo_terms;

@@ -15,7 +15,7 @@
 #include "dense/filters.h"
 #include "dense/octree_export.h"
 #include "dense/pcd_io.h"
-#include "dense/ply_writer.h"
+#include "io/ply.h"
 #include "dynamic/semantic/components.h"
 
 namespace dynref::semantic {
@@ -131,8 +131,8 @@ void MapModule::Finish(const Map& map, RunEnd& end) {
   const dense::PointCloud voxel = dense::VoxelDownsample(sor, o_.voxel_leaf_m);
   dense::WritePcd(base + ".pcd", voxel);
   report(base + ".pcd", "after voxel grid, " + std::to_string(voxel.size()) + " points");
-  dense::WritePly(base + ".ply", voxel, dense::PlyFormat::kBinaryLittleEndian,
-                  "dynref semantic map (seed 002 Sec. 3.3)");
+  WritePly(base + ".ply", voxel, PlyFormat::kBinaryLittleEndian,
+           "dynref semantic map (seed 002 Sec. 3.3)");
   report(base + ".ply", "after voxel grid (PLY), " + std::to_string(voxel.size()) + " points");
   const dense::OctreeStats os = dense::WriteOctrees(voxel, o_.octree_resolution_m, base + ".ot", base + ".bt");
   report(base + ".ot", "OctoMap ColorOcTree, " + std::to_string(os.leaf_nodes) + " leaves, " +

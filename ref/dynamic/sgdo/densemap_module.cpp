@@ -7,7 +7,7 @@
 // the run with an error in run.json.
 #include <utility>
 
-#include "dense/ply_writer.h"
+#include "io/ply.h"
 #include "dynamic/sgdo/stages.h"
 
 namespace dynref::sgdo {
@@ -32,7 +32,7 @@ DenseMapModule::DenseMapModule(const ParamMap& p, std::shared_ptr<Blackboard> bo
   options_.context_margin_m = p.GetDouble("context_margin_m");
   output_ = p.GetString("output");
   const std::string fmt = p.GetString("ply_format");
-  if (fmt == "ascii") format_ = dense::PlyFormat::kAscii;
+  if (fmt == "ascii") format_ = PlyFormat::kAscii;
   else if (fmt != "binary") throw InputError(p.Get("ply_format").file, p.Get("ply_format").line, "ply_format must be binary|ascii");
   if (output_.empty()) throw InputError(p.file, p.line, "sgdo.densemap: output must name a file");
   // A relative output lives in the run folder; a ".." component would let it escape from there
@@ -73,8 +73,8 @@ void DenseMapModule::Finish(const Map&, RunEnd& end) {
   if (output_[0] != '/' && end.out_dir().empty()) return;
   const std::string path = output_[0] == '/' ? output_ : end.out_dir() + "/" + output_;
   map_->Finish();
-  dense::WritePly(path, map_->cloud(), format_,
-                  "dynref sgdo dense static map (seed 001 Sec. 3.6)\nkeyframes " + std::to_string(map_->keyframes()));
+  WritePly(path, map_->cloud(), format_,
+           "dynref sgdo dense static map (seed 001 Sec. 3.6)\nkeyframes " + std::to_string(map_->keyframes()));
   end.AddOutput(name(), path, "dense static map, " + std::to_string(map_->cloud().size()) + " points (PLY)");
 }
 

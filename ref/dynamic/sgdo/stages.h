@@ -7,7 +7,7 @@
 #include <string>
 
 #include "dense/dense_map.h"
-#include "dense/ply_writer.h"
+#include "io/ply.h"
 #include "dynamic/sgdo/coarse.h"
 #include "dynamic/sgdo/depth_consistency.h"
 #include "dynamic/sgdo/stage_common.h"
@@ -74,7 +74,7 @@ class DenseMapModule : public MapModule {
   std::shared_ptr<Blackboard> board_;
   dense::DenseMapOptions options_;
   std::string output_;  // relative to the run folder, or absolute
-  dense::PlyFormat format_ = dense::PlyFormat::kBinaryLittleEndian;
+  PlyFormat format_ = PlyFormat::kBinaryLittleEndian;
   std::unique_ptr<dense::DenseMap> map_;
 };
 

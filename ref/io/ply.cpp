@@ -1,4 +1,4 @@
-#include "dense/ply_writer.h"
+#include "io/ply.h"
 
 #include <cmath>
 #include <cstdlib>
@@ -10,7 +10,7 @@
 #include "core/error.h"
 #include "core/format.h"
 
-namespace dynref::dense {
+namespace dynref {
 namespace {
 
 void PutFloatLE(std::ostream& out, float v) {
@@ -280,4 +280,4 @@ TriangleMesh ReadPlyMesh(const std::string& path) {
   return m;
 }
 
-}  // namespace dynref::dense
+}  // namespace dynref
