@@ -5,7 +5,7 @@
 # checks off, test files at -O0).
 # Only the unit tests and the goldens are registered (DYNREF_TEST_SPEC="~[cli]~[e2e]~[slow],[golden]"):
 # the tests that run build/dynref carry [cli] (scripts/cli-test-tags.py keeps that true), whole-method
-# runs inside a test process [e2e], long ones [slow]; they exercise the code paths the unit tests
+# runs and whole-sequence syntheses inside a test process [e2e], long ones [slow]; they exercise the code paths the unit tests
 # and goldens already cover and run in the normal build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,10 +25,10 @@ SAN="-fsanitize=address,undefined -fno-sanitize=alignment,null"
 # sanitizers are here for (ref/) keeps -O1. Ninja on a fresh folder (scripts/build.sh says why).
 gen=()
 [ -f build-asan/CMakeCache.txt ] || ! command -v ninja > /dev/null || gen=(-G Ninja)
-# DYNREF_TESTS_NEED_EXE=OFF and --target dynref_tests: no registered test runs build/dynref, so the
-# executable (the cli room and its link) is not built here.
+# --target dynref_tests: the test programs, the fuzz driver and build-asan/dynref (the goldens run
+# its `diff` and `trace verify`), not the benchmarks.
 cmake -S . -B build-asan "${gen[@]}" -DCMAKE_BUILD_TYPE=None -DDYNREF_TEST_COMPILE_OPTIONS=-O0 \
-  -DDYNREF_TEST_SPEC="~[cli]~[e2e]~[slow],[golden]" -DCMAKE_UNITY_BUILD=ON -DDYNREF_TESTS_NEED_EXE=OFF \
+  -DDYNREF_TEST_SPEC="~[cli]~[e2e]~[slow],[golden]" -DCMAKE_UNITY_BUILD=ON \
   -DCMAKE_CXX_FLAGS="$opt $SAN -fno-omit-frame-pointer -fno-sanitize-recover=undefined" \
   -DCMAKE_EXE_LINKER_FLAGS="$SAN" > build-asan.configure.log 2>&1 || { cat build-asan.configure.log; exit 1; }
 cmake --build build-asan -j "$(nproc)" --target dynref_tests

@@ -371,6 +371,7 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
   }
   const nlohmann::json run = nlohmann::json::parse(ReadText(s.run_dir + "/run.json"), nullptr, false);
   if (!run.is_discarded()) s.commit = run.value("dynref_commit", std::string("unknown"));
+  if (!run.is_discarded()) s.end_state = run.value("end_state", std::string());
   if (!run.is_discarded() && run.contains("timing")) {
     s.ms_slam = run["timing"]["slam"].value("mean_ms_per_frame", std::nan(""));
     s.ms_total = run["timing"]["total"].value("mean_ms_per_frame", std::nan(""));

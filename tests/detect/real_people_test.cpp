@@ -20,16 +20,14 @@ namespace {
 const std::string kRealSeq = SourcePath("datasets/real/tum_fr3_walking_halfsphere_3frames");
 const std::string kBoxes = SourcePath("datasets/real/tum_fr3_walking_halfsphere_10rgb_person_boxes.txt");
 
-// Detections of the 3 frames, made once per test binary run.
-const std::string& Detections() {
-  static const std::string dir = [] {
-    const std::string d = ScratchDir("real_people_det") + "/det";
-    const auto r = RunDynref("detect --source nanodet --sequence " + Quote(kRealSeq) + " --camera tum_fr3 --out " + Quote(d));
-    INFO(r.output);
-    REQUIRE(r.exit_code == 0);
-    return d;
-  }();
-  return dir;
+// Detections of the 3 frames, made by each test case in its own folder: CTest runs the test cases
+// as parallel processes, and one shared folder was wiped by one while the other read it.
+std::string Detections(const std::string& user) {
+  const std::string d = ScratchDir("real_people_det_" + user) + "/det";
+  const auto r = RunDynref("detect --source nanodet --sequence " + Quote(kRealSeq) + " --camera tum_fr3 --out " + Quote(d));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  return d;
 }
 
 nlohmann::json RunJson(const std::string& run_dir) { return nlohmann::json::parse(ReadFileBytes(run_dir + "/run.json")); }
@@ -37,7 +35,7 @@ nlohmann::json RunJson(const std::string& run_dir) { return nlohmann::json::pars
 }  // namespace
 
 TEST_CASE("real people: dynref info prints NanoDet's person scores and recall against the hand boxes", "[cli]") {
-  const auto r = RunDynref("info " + Quote(Detections()) + " --boxes " + Quote(kBoxes));
+  const auto r = RunDynref("info " + Quote(Detections("info")) + " --boxes " + Quote(kBoxes));
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.output, Catch::Contains("source         nanodet+selfie"));
@@ -50,12 +48,13 @@ TEST_CASE("real people: dynref info prints NanoDet's person scores and recall ag
 
 TEST_CASE("real people: blur and mgd use NanoDet's people at the calibrated threshold and warn at the raw one", "[cli]") {
   const std::string dir = ScratchDir("real_people_run");
+  const std::string detections = Detections("run");
   for (const std::string method : {"blur", "mgd"}) {
     INFO(method);
     const std::string stage = method == "blur" ? "blur.mask" : "mgd.boxes";
     const std::string scale_key = method == "blur" ? "blur.mask.threshold_scale" : "mgd.probability.threshold_scale";
     const std::string base = "run --method " + method + " --sequence " + Quote(kRealSeq) + " --camera tum_fr3 --detections " +
-                             Quote(Detections()) + " --no-progress --out ";
+                             Quote(detections) + " --no-progress --out ";
     const auto cal = RunDynref(base + Quote(dir + "/" + method + "_cal"));
     INFO(cal.output);
     REQUIRE(cal.exit_code == 0);

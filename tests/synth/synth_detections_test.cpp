@@ -24,7 +24,7 @@ double Iou(const cv::Mat& a, const cv::Mat& b) {
 
 }  // namespace
 
-TEST_CASE("synth: ideal detections copy GT and degraded ones jitter and miss and stay well-formed") {
+TEST_CASE("synth: ideal detections copy GT and degraded ones jitter and miss and stay well-formed", "[e2e]") {
   const std::string dir = test::ScratchDir("synth_detections");
   synth::SynthOptions o;
   // 24 frames: frames 0-11 hold no missed burst on a large person (the first is frame 13).
@@ -130,7 +130,7 @@ Counts RunDegrader(int speed_px, double exposure_frames) {
 
 }  // namespace
 
-TEST_CASE("synth: under --blur fast instances are missed and shrunk more often, still ones never shrink") {
+TEST_CASE("synth: under --blur fast instances are missed and shrunk more often, still ones never shrink", "[e2e]") {
   const Counts still = RunDegrader(0, 0.6), fast = RunDegrader(20, 0.6), no_blur = RunDegrader(20, 0.0);
   INFO("still missed " << still.missed << " shrunk " << still.shrunk << "; fast missed " << fast.missed << " shrunk "
                        << fast.shrunk << "; no blur missed " << no_blur.missed << " shrunk " << no_blur.shrunk);
@@ -142,7 +142,7 @@ TEST_CASE("synth: under --blur fast instances are missed and shrunk more often, 
   CHECK(fast.detected + fast.missed + 0 <= 400);
 }
 
-TEST_CASE("synth: gt/dropped-<mode>.txt lists what the degradation did, one line per frame") {
+TEST_CASE("synth: gt/dropped-<mode>.txt lists what the degradation did, one line per frame", "[e2e]") {
   const std::string dir = test::ScratchDir("synth_dropped");
   synth::SynthOptions o;
   o.preset = "walking_xyz", o.frames = 12, o.out = dir, o.detections = "sparseinst-like", o.blur = true;

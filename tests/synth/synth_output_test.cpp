@@ -53,7 +53,7 @@ SynthOptions Options(const std::string& preset, int frames, const std::string& o
 
 }  // namespace
 
-TEST_CASE("synth: same arguments give byte-identical folders with blur and low light and all detections") {
+TEST_CASE("synth: same arguments give byte-identical folders with blur and low light and all detections", "[e2e]") {
   const std::string a = dynref::test::ScratchDir("synth_det_a"), b = dynref::test::ScratchDir("synth_det_b");
   SynthOptions o = Options("sitting_static", 3, a);
   o.blur = true, o.low_light = true, o.detections = "all", o.blur_subframes = 3;
@@ -126,7 +126,7 @@ TEST_CASE("synth: TUM layout read by OpenSequence with GT for every frame and ca
   CHECK(ms.str().find(seq.frames[1].rgb_stamp_text + " 1 2") != std::string::npos);
 }
 
-TEST_CASE("synth: every preset generates and has people only where expected") {
+TEST_CASE("synth: every preset generates and has people only where expected", "[e2e]") {
   CHECK(dynref::synth::PresetNames().size() == 18);  // the presets table of datasets/README.md
   for (const std::string& preset : dynref::synth::PresetNames()) {
     INFO(preset);
