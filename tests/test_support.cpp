@@ -41,6 +41,15 @@ std::string WriteText(const std::string& path, const std::string& text) {
   return path;
 }
 
+std::string WritePatched(const std::string& text, const std::string& from, const std::string& to,
+                         const std::string& path) {
+  std::string s = text;
+  const size_t at = s.find(from);
+  if (at == std::string::npos) throw std::runtime_error("WritePatched: '" + from + "' not in the text");
+  s.replace(at, from.size(), to);
+  return WriteText(path, s);
+}
+
 bool FileExists(const std::string& path) {
   struct stat st {};
   return ::stat(path.c_str(), &st) == 0;

@@ -24,6 +24,10 @@ bool FileExists(const std::string& path);
 std::string WriteText(const std::string& path, const std::string& text);
 // Whole file as bytes ("" when it cannot be read).
 std::string ReadFileBytes(const std::string& path);
+// Writes `text` with its first `from` replaced by `to` to path (a deliberately broken input);
+// returns path. Throws when `text` has no `from`.
+std::string WritePatched(const std::string& text, const std::string& from, const std::string& to,
+                         const std::string& path);
 // Runs dynref and expects bad-input exit code 2 with `fragment` (usually "file:line:") in the output.
 void ExpectBadInput(const std::string& args, const std::string& fragment);
 

@@ -17,33 +17,16 @@ PointCloud Sample() {
   return c;
 }
 
-std::string Bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// `text` with the first `from` replaced by `to`, written to path.
-std::string Patched(const std::string& text, const std::string& from, const std::string& to, const std::string& path) {
-  std::string s = text;
-  const size_t at = s.find(from);
-  REQUIRE(at != std::string::npos);
-  s.replace(at, from.size(), to);
-  std::ofstream(path, std::ios::binary) << s;
-  return path;
-}
-
 }  // namespace
 
 TEST_CASE("dense pcd: counts and undeclared trailing data are errors (issue 37)") {
   const std::string dir = dynref::test::ScratchDir("dense_pcd_strict");
   WritePcd(dir + "/c.pcd", Sample());
-  const std::string pcd = Bytes(dir + "/c.pcd");
+  const std::string pcd = dynref::test::ReadFileBytes(dir + "/c.pcd");
   CHECK(ReadPcd(dir + "/c.pcd").size() == 3);
-  CHECK_THROWS_WITH(ReadPcd(Patched(pcd, "POINTS 3", "POINTS 2", dir + "/trail.pcd")),
+  CHECK_THROWS_WITH(ReadPcd(dynref::test::WritePatched(pcd, "POINTS 3", "POINTS 2", dir + "/trail.pcd")),
                     Catch::Contains("trail.pcd: 16 bytes of data after the 2 points"));
-  CHECK_THROWS_WITH(ReadPcd(Patched(pcd, "POINTS 3", "POINTS -5", dir + "/neg.pcd")),
+  CHECK_THROWS_WITH(ReadPcd(dynref::test::WritePatched(pcd, "POINTS 3", "POINTS -5", dir + "/neg.pcd")),
                     Catch::Contains("neg.pcd:10: POINTS '-5'"));
-  CHECK_THROWS_WITH(ReadPcd(Patched(pcd, "POINTS 3", "POINTS 4", dir + "/short.pcd")), Catch::Contains("truncated"));
+  CHECK_THROWS_WITH(ReadPcd(dynref::test::WritePatched(pcd, "POINTS 3", "POINTS 4", dir + "/short.pcd")), Catch::Contains("truncated"));
 }

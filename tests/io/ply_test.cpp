@@ -30,23 +30,6 @@ void PlyCheckSame(const PointCloud& a, const PointCloud& b) {
   }
 }
 
-std::string PlyBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// `text` with the first `from` replaced by `to`, written to path.
-std::string PlyPatched(const std::string& text, const std::string& from, const std::string& to, const std::string& path) {
-  std::string s = text;
-  const size_t at = s.find(from);
-  REQUIRE(at != std::string::npos);
-  s.replace(at, from.size(), to);
-  std::ofstream(path, std::ios::binary) << s;
-  return path;
-}
-
 }  // namespace
 
 TEST_CASE("io ply: binary and ASCII round-trip exactly, header is standard") {
@@ -82,18 +65,18 @@ TEST_CASE("io ply: counts, undeclared trailing data and non-finite points are er
   PointCloud many(150);
   for (size_t i = 0; i < many.size(); ++i) many[i].x = float(i);
   WritePly(dir + "/many.ply", many);
-  const std::string bin = PlyBytes(dir + "/many.ply");
+  const std::string bin = dynref::test::ReadFileBytes(dir + "/many.ply");
   // The header says 100, the file holds 150: no longer reads 100 silently.
-  CHECK_THROWS_WITH(ReadPly(PlyPatched(bin, "element vertex 150", "element vertex 100", dir + "/trail.ply")),
+  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(bin, "element vertex 150", "element vertex 100", dir + "/trail.ply")),
                     Catch::Contains("trail.ply: 750 bytes of data after the 100 vertices (line 3)"));
-  CHECK_THROWS_WITH(ReadPly(PlyPatched(bin, "element vertex 150", "element vertex 200", dir + "/short.ply")),
+  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(bin, "element vertex 150", "element vertex 200", dir + "/short.ply")),
                     Catch::Contains("short.ply: truncated"));
   // A negative or non-decimal count: file:line, not a wrapped-around size (bad_alloc / assertion).
-  CHECK_THROWS_WITH(ReadPly(PlyPatched(bin, "element vertex 150", "element vertex -5", dir + "/neg.ply")),
+  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(bin, "element vertex 150", "element vertex -5", dir + "/neg.ply")),
                     Catch::Contains("neg.ply:3: vertex count '-5' is not a whole number >= 0"));
-  CHECK_THROWS_WITH(ReadPly(PlyPatched(bin, "element vertex 150", "element vertex 1e9", dir + "/exp.ply")),
+  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(bin, "element vertex 150", "element vertex 1e9", dir + "/exp.ply")),
                     Catch::Contains("exp.ply:3:"));
-  CHECK_THROWS_WITH(ReadPly(PlyPatched(bin, "element vertex 150", "element vertex 99999999999999", dir + "/huge.ply")),
+  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(bin, "element vertex 150", "element vertex 99999999999999", dir + "/huge.ply")),
                     Catch::Contains("huge.ply: truncated"));
   // NaN: binary names the vertex, ASCII the line (header: 10 lines, vertex 1 on line 12).
   PointCloud bad = PlySample();
@@ -107,17 +90,17 @@ TEST_CASE("io ply: counts, undeclared trailing data and non-finite points are er
   CHECK_THROWS_WITH(ReadPly(dir + "/inf.ply"), Catch::Contains("non-finite"));
   // ASCII: a line beyond the declared count, a short file, a bad colour.
   WritePly(dir + "/a.ply", PlySample(), PlyFormat::kAscii);
-  const std::string ascii = PlyBytes(dir + "/a.ply");
-  CHECK_THROWS_WITH(ReadPly(PlyPatched(ascii, "element vertex 3", "element vertex 2", dir + "/a_trail.ply")),
+  const std::string ascii = dynref::test::ReadFileBytes(dir + "/a.ply");
+  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(ascii, "element vertex 3", "element vertex 2", dir + "/a_trail.ply")),
                     Catch::Contains("a_trail.ply:13: data after the 2 vertices (line 3)"));
-  CHECK_THROWS_WITH(ReadPly(PlyPatched(ascii, "element vertex 3", "element vertex 4", dir + "/a_short.ply")),
+  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(ascii, "element vertex 3", "element vertex 4", dir + "/a_short.ply")),
                     Catch::Contains("a_short.ply"));
-  CHECK_THROWS_WITH(ReadPly(PlyPatched(ascii, " 255 1 2\n", " 256 1 2\n", dir + "/a_colour.ply")),
+  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(ascii, " 255 1 2\n", " 256 1 2\n", dir + "/a_colour.ply")),
                     Catch::Contains("a_colour.ply:11: colour '256'"));
-  CHECK_THROWS_WITH(ReadPly(PlyPatched(ascii, "element vertex 3", "element vertex -5", dir + "/a_neg.ply")),
+  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(ascii, "element vertex 3", "element vertex -5", dir + "/a_neg.ply")),
                     Catch::Contains("a_neg.ply:3:"));
   // What WritePly writes still reads back (blank trailing lines in ASCII are fine).
-  PlyCheckSame(ReadPly(PlyPatched(ascii, "end_header\n", "end_header\n", dir + "/a_same.ply")), PlySample());
+  PlyCheckSame(ReadPly(dynref::test::WritePatched(ascii, "end_header\n", "end_header\n", dir + "/a_same.ply")), PlySample());
   std::ofstream(dir + "/a_same.ply", std::ios::app) << "\n\n";
   PlyCheckSame(ReadPly(dir + "/a_same.ply"), PlySample());
   CHECK(ReadPly(dir + "/many.ply").size() == 150);
@@ -129,10 +112,10 @@ TEST_CASE("io ply mesh: counts and undeclared trailing data are errors (issue 37
   m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   m.faces = {{0, 1, 2}};
   WritePlyMesh(dir + "/m.ply", m);
-  const std::string mesh = PlyBytes(dir + "/m.ply");
+  const std::string mesh = dynref::test::ReadFileBytes(dir + "/m.ply");
   CHECK(ReadPlyMesh(dir + "/m.ply").faces.size() == 1);
-  CHECK_THROWS_WITH(ReadPlyMesh(PlyPatched(mesh, "element vertex 3", "element vertex 2", dir + "/m_trail.ply")),
+  CHECK_THROWS_WITH(ReadPlyMesh(dynref::test::WritePatched(mesh, "element vertex 3", "element vertex 2", dir + "/m_trail.ply")),
                     Catch::Contains("m_trail.ply: 12 bytes of data after the 2 vertices and 1 faces"));
-  CHECK_THROWS_WITH(ReadPlyMesh(PlyPatched(mesh, "element face 1", "element face -5", dir + "/m_neg.ply")),
+  CHECK_THROWS_WITH(ReadPlyMesh(dynref::test::WritePatched(mesh, "element face 1", "element face -5", dir + "/m_neg.ply")),
                     Catch::Contains("m_neg.ply:7: face count '-5'"));
 }
