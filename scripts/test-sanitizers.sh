@@ -3,10 +3,11 @@
 # the unit tests and goldens under it (issue 20). Called by .ci/run after scripts/test.sh
 # (the build's cost was cut two ways, each measured and explained below: UBSan's two costliest
 # checks off, test files at -O0).
-# Only the unit tests and the goldens are registered (DYNREF_TEST_SPEC="~[cli]~[e2e]~[slow],[golden]"):
-# the tests that run build/dynref carry [cli] (scripts/cli-test-tags.py keeps that true), whole-method
-# runs and whole-sequence syntheses inside a test process [e2e], long ones [slow]; they exercise the code paths the unit tests
-# and goldens already cover and run in the normal build.
+# Only the unit tests and the goldens are registered
+# (DYNREF_TEST_SPEC="~[cli]~[e2e]~[slow],[golden]"): the tests that run build/dynref carry [cli]
+# (scripts/cli-test-tags.py keeps that true), whole-method runs and whole-sequence syntheses inside
+# a test process [e2e], long ones [slow]; they exercise the code paths the unit tests and goldens
+# already cover and run in the normal build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
