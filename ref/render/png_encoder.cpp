@@ -10,7 +10,7 @@
 namespace dynref::render {
 
 std::string EncodePngRgb8(const uint8_t* rgb, int width, int height, const std::string& name) {
-  const auto encode =
+  static const auto encode =  // looked up once per process, like plugins::OpenCvExtraModule()
       reinterpret_cast<DynrefEncodePngFn>(ModuleSymbol(DYNREF_OIIO_PNG_MODULE, DYNREF_ENCODE_PNG_SYMBOL));
   unsigned char* out = nullptr;
   size_t size = 0;

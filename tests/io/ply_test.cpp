@@ -6,18 +6,12 @@
 
 #include "core/error.h"
 #include "io/ply.h"
+#include "io/point_cloud_sample.h"
 #include "test_support.h"
 
 using namespace dynref;
 
 namespace {
-PointCloud PlySample() {
-  PointCloud c(3);
-  c[0].x = 1.5f, c[0].y = -2.25f, c[0].z = 0.1f, c[0].r = 255, c[0].g = 1, c[0].b = 2;
-  c[1].x = 0, c[1].y = 0, c[1].z = 3, c[1].r = 9;
-  c[2].x = 1e-7f, c[2].y = 123.456f, c[2].z = -0.5f, c[2].b = 200;
-  return c;
-}
 void PlyCheckSame(const PointCloud& a, const PointCloud& b) {
   REQUIRE(a.size() == b.size());
   for (size_t i = 0; i < a.size(); ++i) {
@@ -34,10 +28,10 @@ void PlyCheckSame(const PointCloud& a, const PointCloud& b) {
 
 TEST_CASE("io ply: binary and ASCII round-trip exactly, header is standard") {
   const std::string dir = dynref::test::ScratchDir("io_ply");
-  WritePly(dir + "/b.ply", PlySample(), PlyFormat::kBinaryLittleEndian, "dynref test\nsecond line");
-  WritePly(dir + "/a.ply", PlySample(), PlyFormat::kAscii);
-  PlyCheckSame(ReadPly(dir + "/b.ply"), PlySample());
-  PlyCheckSame(ReadPly(dir + "/a.ply"), PlySample());
+  WritePly(dir + "/b.ply", dynref::test::SamplePointCloud(), PlyFormat::kBinaryLittleEndian, "dynref test\nsecond line");
+  WritePly(dir + "/a.ply", dynref::test::SamplePointCloud(), PlyFormat::kAscii);
+  PlyCheckSame(ReadPly(dir + "/b.ply"), dynref::test::SamplePointCloud());
+  PlyCheckSame(ReadPly(dir + "/a.ply"), dynref::test::SamplePointCloud());
   std::ifstream in(dir + "/b.ply", std::ios::binary);
   std::stringstream ss;
   ss << in.rdbuf();
@@ -79,7 +73,7 @@ TEST_CASE("io ply: counts, undeclared trailing data and non-finite points are er
   CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(bin, "element vertex 150", "element vertex 99999999999999", dir + "/huge.ply")),
                     Catch::Contains("huge.ply: truncated"));
   // NaN: binary names the vertex, ASCII the line (header: 10 lines, vertex 1 on line 12).
-  PointCloud bad = PlySample();
+  PointCloud bad = dynref::test::SamplePointCloud();
   bad[1].y = std::numeric_limits<float>::quiet_NaN();
   WritePly(dir + "/nan.ply", bad);
   CHECK_THROWS_WITH(ReadPly(dir + "/nan.ply"), Catch::Contains("nan.ply: vertex 1 has a non-finite coordinate"));
@@ -89,7 +83,7 @@ TEST_CASE("io ply: counts, undeclared trailing data and non-finite points are er
   WritePly(dir + "/inf.ply", bad);
   CHECK_THROWS_WITH(ReadPly(dir + "/inf.ply"), Catch::Contains("non-finite"));
   // ASCII: a line beyond the declared count, a short file, a bad colour.
-  WritePly(dir + "/a.ply", PlySample(), PlyFormat::kAscii);
+  WritePly(dir + "/a.ply", dynref::test::SamplePointCloud(), PlyFormat::kAscii);
   const std::string ascii = dynref::test::ReadFileBytes(dir + "/a.ply");
   CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(ascii, "element vertex 3", "element vertex 2", dir + "/a_trail.ply")),
                     Catch::Contains("a_trail.ply:13: data after the 2 vertices (line 3)"));
@@ -100,9 +94,9 @@ TEST_CASE("io ply: counts, undeclared trailing data and non-finite points are er
   CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(ascii, "element vertex 3", "element vertex -5", dir + "/a_neg.ply")),
                     Catch::Contains("a_neg.ply:3:"));
   // What WritePly writes still reads back (blank trailing lines in ASCII are fine).
-  PlyCheckSame(ReadPly(dynref::test::WritePatched(ascii, "end_header\n", "end_header\n", dir + "/a_same.ply")), PlySample());
+  PlyCheckSame(ReadPly(dynref::test::WritePatched(ascii, "end_header\n", "end_header\n", dir + "/a_same.ply")), dynref::test::SamplePointCloud());
   std::ofstream(dir + "/a_same.ply", std::ios::app) << "\n\n";
-  PlyCheckSame(ReadPly(dir + "/a_same.ply"), PlySample());
+  PlyCheckSame(ReadPly(dir + "/a_same.ply"), dynref::test::SamplePointCloud());
   CHECK(ReadPly(dir + "/many.ply").size() == 150);
 }
 
