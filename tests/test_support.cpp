@@ -8,17 +8,37 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
+#include <system_error>
+#include <vector>
 
 namespace dynref::test {
+namespace {
+std::vector<std::string>& ScratchDirsMade() {
+  static std::vector<std::string> dirs;
+  return dirs;
+}
+}  // namespace
 
 std::string ScratchDir(const std::string& name) {
   const std::string dir = std::string(DYNREF_BINARY_DIR) + "/test_scratch/" + name;
   const std::string cmd = "rm -rf '" + dir + "' && mkdir -p '" + dir + "'";
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("cannot create " + dir);
+  ScratchDirsMade().push_back(dir);
   return dir;
+}
+
+// A full suite leaves several GB of sequences and runs behind otherwise; CI builds two trees
+// (main and sanitizer) on one disk.
+void RemoveScratchDirs() {
+  const char* keep = std::getenv("DYNREF_KEEP_SCRATCH");
+  if (keep && std::string(keep) == "1") return;
+  std::error_code ec;
+  for (const std::string& dir : ScratchDirsMade()) std::filesystem::remove_all(dir, ec);
+  ScratchDirsMade().clear();
 }
 
 CommandResult RunDynref(const std::string& args) { return RunShell(Quote(DynrefExe()) + " " + args); }

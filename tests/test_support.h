@@ -6,8 +6,12 @@ namespace dynref::test {
 
 inline std::string SourcePath(const std::string& rel) { return std::string(DYNREF_SOURCE_DIR) + "/" + rel; }
 inline std::string DynrefExe() { return DYNREF_EXE; }
-// Fresh, empty directory under the build tree named after the test.
+// Fresh, empty directory under the build tree named after the test. Removed when the test
+// process ends with every test passed (RemoveScratchDirs), kept after a failure and when
+// DYNREF_KEEP_SCRATCH=1 is set.
 std::string ScratchDir(const std::string& name);
+// Removes the directories ScratchDir made in this process, unless DYNREF_KEEP_SCRATCH=1.
+void RemoveScratchDirs();
 
 struct CommandResult {
   int exit_code = -1;

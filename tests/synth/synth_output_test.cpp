@@ -256,8 +256,9 @@ TEST_CASE("synth --width: a small sequence with scaled intrinsics, masks and det
   CHECK(meta.find(" --width 160)") != std::string::npos);
   CHECK(meta.find("\nwidth: 160\nheight: 120\n") != std::string::npos);
   // The default writes no width line (full-size synth.yaml unchanged).
-  GenerateSequence(Options("walking_xyz", 1, dir + "_full"));
-  CHECK(dynref::test::ReadFileBytes(dir + "_full/synth.yaml").find("width") == std::string::npos);
+  const std::string full = dynref::test::ScratchDir("synth_width_full");
+  GenerateSequence(Options("walking_xyz", 1, full));
+  CHECK(dynref::test::ReadFileBytes(full + "/synth.yaml").find("width") == std::string::npos);
   for (int bad : {-4, 32, 60, 161, 644}) {
     INFO(bad);
     SynthOptions b = Options("walking_xyz", 1, dir + "_bad");

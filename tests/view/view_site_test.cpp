@@ -1,7 +1,8 @@
 // `dynref view` (issue 36): the site of a run opened in headless Chromium (Debian's chromium,
 // installed by scripts/install-deps.sh --tests): the page's history of an entity equals
 // `dynref trace feature` record for record; a click on a feature opens its history; a screenshot
-// of the page is kept in the test's folder (build/test_scratch/...).
+// of the page is written to the test's folder (build/test_scratch/..., kept with
+// DYNREF_KEEP_SCRATCH=1).
 #include <catch2/catch.hpp>
 #include <cstdio>
 #include <cstdlib>
