@@ -47,16 +47,17 @@ const char* EntityKindName(EntityKind kind) {
 
 namespace {
 constexpr size_t kFlushBytes = size_t{1} << 20;
-
-struct FrameIndexEntry {
-  int64_t frame;
-  uint64_t offset;
-  uint64_t records;
-  uint32_t crc = 0;  // CRC-32C of the group's bytes [offset, next group's offset or footer)
-};
 }  // namespace
 
 struct TraceWriter::Impl {
+  // Not in the anonymous namespace: a member's type there gives Impl internal linkage parts
+  // (-Wsubobject-linkage in unity builds).
+  struct FrameIndexEntry {
+    int64_t frame;
+    uint64_t offset;
+    uint64_t records;
+    uint32_t crc = 0;  // CRC-32C of the group's bytes [offset, next group's offset or footer)
+  };
   std::string final_path, temp_path;
   FILE* file = nullptr;
   std::string buf;              // pending bytes
@@ -330,7 +331,7 @@ void TraceWriter::Close(const std::string& end_state) {
   w.Varint(w.records);
   w.Str(end_state);
   w.Varint(w.index.size());
-  for (const FrameIndexEntry& e : w.index) {
+  for (const Impl::FrameIndexEntry& e : w.index) {
     w.SVarint(e.frame);
     w.Varint(e.offset);
     w.Varint(e.records);
