@@ -30,7 +30,7 @@ LoopCloser::LoopCloser(Map& map, const Camera& camera, const LoopClosingOptions&
     : map_(map), camera_(camera), options_(options), ba_(ba), trace_(trace), detector_(options.detector),
       rng_(options.seed, "loop.se3") {
   options_.Check();
-  ba_.iterations_robust = options_.global_ba_iterations;  // ORB-SLAM2 BundleAdjustment: Huber throughout
+  ba_.iterations_robust = options_.global_ba_iterations;  // Huber throughout (ORB-SLAM2: none, loop_closer.h)
   ba_.iterations_refine = 0;
 }
 

@@ -15,14 +15,18 @@
 //     edges of weight >= 100, the new loop connections; the loop keyframe fixed; map points follow
 //     their reference keyframe;
 //  5. global bundle adjustment (ORB-SLAM2 RunGlobalBundleAdjustment, Optimizer::BundleAdjustment:
-//     every keyframe and point, keyframe 0 fixed, 10 iterations with Huber) through
-//     optim::LocalBundleAdjust with every keyframe free and no refinement phase; a method's
-//     per-observation weights and exclusions apply as in local BA. No observation is erased
-//     (ORB-SLAM2's global BA flags outliers but keeps them).
+//     every keyframe and point, keyframe 0 fixed, 10 iterations) through optim::LocalBundleAdjust
+//     with every keyframe free, Huber throughout and no refinement phase; a method's
+//     per-observation weights and exclusions apply as in local BA, and the backbone's line and
+//     plane landmarks join it as in local BA (global_ba.h). No observation is erased (ORB-SLAM2's
+//     global BA flags no outlier). After the essential graph, lines and planes follow the keyframe
+//     that created them (global_ba.h MoveStructureWithKeyFrames).
 // Deliberate deviations: ORB-SLAM2 interleaves 5 RANSAC iterations per candidate and refines the
 // transform with OptimizeSim3 after a SearchBySim3; here each candidate gets a full RANSAC and the
 // closed-form refit of its inliers. ORB-SLAM2's global BA runs in a thread and is merged later; here
-// it runs at once.
+// it runs at once. ORB-SLAM2's RunGlobalBundleAdjustment passes bRobust = false (no Huber kernel);
+// here Huber stays on (the methods keep down-weighted observations of movers in the map; the
+// non-robust variant is not measured).
 // Trace: see loop_trace.h.
 #pragma once
 #include <cstdint>
@@ -37,6 +41,7 @@
 #include "loop/se3_solver.h"
 #include "map/map.h"
 #include "optim/optim.h"
+#include "structure/structure_tracker.h"
 #include "trace/trace_writer.h"
 #include "tracking/place_index.h"
 
@@ -79,6 +84,9 @@ class LoopCloser {
   // After the local mapping of keyframe `kf_id` (already in `place`). Returns true when a loop
   // was closed (the map changed).
   bool Process(int64_t kf_id, tracking::PlaceIndex& place);
+  // The backbone's line and plane landmarks (null: points only): they follow their keyframes
+  // after the correction and join the global BA (global_ba.h).
+  void SetStructure(const structure::StructureTracker* s) { structure_ = s; }
   const std::vector<LoopEvent>& loops() const { return loops_; }
   const LoopTiming& timing() const { return timing_; }
 
@@ -108,6 +116,7 @@ class LoopCloser {
   std::vector<LoopEvent> loops_;
   int essential_calls_ = 0, global_ba_calls_ = 0;
   LoopTiming timing_;
+  const structure::StructureTracker* structure_ = nullptr;
 };
 
 }  // namespace dynref::loop

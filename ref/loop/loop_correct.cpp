@@ -7,7 +7,7 @@
 
 #include "core/cpu_clock.h"
 #include "loop/essential_graph.h"
-#include "mapping/ba_observation.h"
+#include "loop/global_ba.h"
 #include "loop/loop_closer.h"
 #include "loop/loop_matcher.h"
 
@@ -162,6 +162,9 @@ void CorrectMovePoints(Map& map, const std::map<int64_t, int64_t>& corrected_by,
 
 void LoopCloser::CorrectLoop(KeyFrame& kf, const Candidate& c, LoopEvent* event) {
   map_.UpdateConnections(kf.id);
+  std::map<int64_t, SE3> T_cw_before;  // every keyframe before the correction: lines and planes follow
+  for (const auto& [id, k] : map_.keyframes)
+    if (!k->bad) T_cw_before[id] = k->T_cw;
   // The keyframe and its covisibles with their poses before and after the correction.
   const std::vector<int64_t> connected = CorrectConnectedKeyFrames(map_, kf);
   const SE3 T_wc = kf.T_cw.inverse();
@@ -194,6 +197,7 @@ void LoopCloser::CorrectLoop(KeyFrame& kf, const Candidate& c, LoopEvent* event)
   event->essential_chi2_end = pg.chi2_end;
   for (const auto& [id, T] : pg.T_cw) map_.kf(id)->T_cw = T;
   CorrectMovePoints(map_, corrected_by, g.T_cw, pg.T_cw);
+  if (structure_ != nullptr) MoveStructureWithKeyFrames(map_, T_cw_before);
   loop_edges_ = std::move(loop_edges);
   if (options_.global_ba) {
     const double t0 = ThreadCpuMs();
@@ -203,42 +207,14 @@ void LoopCloser::CorrectLoop(KeyFrame& kf, const Candidate& c, LoopEvent* event)
 }
 
 void LoopCloser::GlobalBundleAdjustment() {
-  std::vector<optim::BAKeyFrame> kfs;
-  std::set<int64_t> good;
-  const int64_t first = map_.keyframes.empty() ? -1 : map_.keyframes.begin()->first;
-  for (const auto& [id, k] : map_.keyframes) {
-    if (k->bad) continue;
-    kfs.push_back({id, k->T_cw, id == first});
-    good.insert(id);
-  }
-  std::vector<optim::BAPoint> pts;
-  std::vector<optim::BAObservation> obs;
-  for (const auto& [id, p] : map_.points) {
-    if (p->bad) continue;
-    std::vector<optim::BAObservation> mine;
-    for (const auto& [k_id, idx] : p->observations) {
-      const KeyFrame* k = map_.kf(k_id);
-      if (!good.count(k_id) || k->frame.IsExcluded(idx)) continue;
-      mine.push_back(KeyframeObservation(*k, k_id, id, idx));
-    }
-    if (mine.empty()) continue;
-    pts.push_back({id, p->X_w});
-    obs.insert(obs.end(), mine.begin(), mine.end());
-  }
-  if (obs.empty()) return;
+  const GlobalBAProblem p = BuildGlobalBA(map_, structure_);
+  if (p.observations.empty()) return;
   ++global_ba_calls_;
-  const optim::LocalBAResult r = optim::LocalBundleAdjust(camera_.Pinhole(), kfs, pts, obs, ba_, &trace_,
-                                                          "globalba#" + std::to_string(global_ba_calls_));
-  for (const optim::BAKeyFrame& k : kfs) {
-    const auto it = r.T_cw.find(k.id);
-    if (!k.fixed && it != r.T_cw.end()) map_.kf(k.id)->T_cw = it->second;
-  }
-  for (const optim::BAPoint& p : pts) {
-    const auto it = r.X_w.find(p.id);
-    if (it == r.X_w.end()) continue;
-    map_.mp(p.id)->X_w = it->second;
-    map_.UpdatePointNormalAndDepth(p.id);
-  }
+  const optim::LocalBAResult r =
+      optim::LocalBundleAdjust(camera_.Pinhole(), p.keyframes, p.points, p.observations,
+                               structure_ != nullptr ? &p.structure : nullptr, ba_, &trace_,
+                               "globalba#" + std::to_string(global_ba_calls_));
+  ApplyGlobalBA(map_, p, r, structure_);
 }
 
 }  // namespace dynref::loop

@@ -43,6 +43,7 @@ FrameLoop::FrameLoop(const RunOptions& options, const RunInputs& inputs, Session
   if (inputs.config->backbone.loop.enabled)
     loop_ = std::make_unique<loop::LoopCloser>(map_, camera_, inputs.config->backbone.loop, inputs.config->backbone.mapper.ba,
                                                trace);
+  if (loop_ && structure_) loop_->SetStructure(structure_.get());
 }
 
 FrameLoop::~FrameLoop() {

@@ -355,6 +355,11 @@ int StructureTracker::ApplyLocalBA(Map& map, const optim::LocalBAStructure& st, 
     }
     ++outliers;
   }
+  ApplyLandmarks(map, r);
+  return outliers;
+}
+
+void StructureTracker::ApplyLandmarks(Map& map, const optim::LocalBAResult& r) const {
   for (const auto& [id, P] : r.line_P) {
     MapLine* L = map.good_line(id);
     if (L != nullptr) L->P_s = P.first, L->P_e = P.second;
@@ -363,7 +368,6 @@ int StructureTracker::ApplyLocalBA(Map& map, const optim::LocalBAStructure& st, 
     MapPlane* P = map.good_plane(id);
     if (P != nullptr) P->n = p.first.normalized(), P->d = p.second;
   }
-  return outliers;
 }
 
 void StructureTracker::TraceFrame(const Frame& f) const {

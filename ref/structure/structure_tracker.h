@@ -59,6 +59,9 @@ class StructureTracker {
   // Writes BA results back (outlier observations erased, landmark parameters updated); returns
   // the number of outlier observations.
   int ApplyLocalBA(Map& map, const optim::LocalBAStructure& st, const optim::LocalBAResult& r) const;
+  // Landmark parameters only (no observation erased): ApplyLocalBA's last step, and loop
+  // closing's global BA (ORB-SLAM2's global BA flags no outlier, ref/loop/global_ba.h).
+  void ApplyLandmarks(Map& map, const optim::LocalBAResult& r) const;
   // Full trace: one geometry record per frame line and plane (PROB, stage "structure", p = 0:
   // the backbone treats every line and plane as static; ref/trace/README.md), after tracking.
   void TraceFrame(const Frame& f) const;
