@@ -105,7 +105,7 @@ int RunOverview(const OverviewArgs& a) {
   std::string md = "# dynref overview: every method on one sequence\n\n";
   md += "Made by `dynref overview --preset " + a.preset + " --frames " + std::to_string(a.frames) + " --seed " +
         std::to_string(a.seed) + "` at commit " + DYNREF_GIT_COMMIT + ": synthetic `" + a.preset +
-        "` (yolo-like detections), every method's configs/<method>.yaml, evaluated against the sequence's ground truth.\n\n";
+        "` (yolo-like detections), every method's `configs/<method>.yaml`, evaluated against the sequence's ground truth.\n\n";
   if (!a.viewer.empty())
     md += "**Browse the runs:** [the run viewer](" + a.viewer + ") (frame slider, click a feature for its history).\n\n";
   md += "| method | end state | tracked | ATE RMSE (m) | RPE trans (m/s) | RPE rot (deg/s) | ms/frame (slam) | modules (ms/frame) | "
