@@ -8,19 +8,13 @@
 
 #include "io/camera.h"
 #include "loop/global_ba.h"
+#include "loop/yaw_pose.h"
 #include "structure/structure_tracker.h"
 #include "trace/trace_writer.h"
 
 using namespace dynref;
 
 namespace {
-
-SE3 GbaPose(double yaw, const Eigen::Vector3d& t) {
-  SE3 T = SE3::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  T.translation() = t;
-  return T;
-}
 
 // Wall z = 3 in the world (n = (0, 0, -1), d = 3: n^T X + d = 0 with n towards the cameras).
 const Eigen::Vector3d kGbaWallN(0, 0, -1);
@@ -60,9 +54,9 @@ GbaScene GbaMakeScene() {
   GbaScene s;
   std::vector<Eigen::Vector3d> X;
   for (int i = 0; i < 24; ++i) X.emplace_back(-0.9 + 0.08 * i, -0.5 + 0.045 * (i % 5) * (i % 3), 2.4 + 0.25 * (i % 4));
-  GbaAddKeyFrame(s, GbaPose(0.0, {0, 0, 0}), X);
-  GbaAddKeyFrame(s, GbaPose(0.05, {-0.10, 0.01, 0}), X);
-  GbaAddKeyFrame(s, GbaPose(-0.04, {0.12, -0.02, 0.05}), X);
+  GbaAddKeyFrame(s, test::YawPose(0.0, {0, 0, 0}), X);
+  GbaAddKeyFrame(s, test::YawPose(0.05, {-0.10, 0.01, 0}), X);
+  GbaAddKeyFrame(s, test::YawPose(-0.04, {0.12, -0.02, 0.05}), X);
   for (size_t i = 0; i < X.size(); ++i) {
     const int64_t id = s.map.NewMapPoint(X[i], 0, 0)->id;
     for (int64_t k = 0; k < 3; ++k) s.map.AddObservation(id, k, static_cast<int>(i));
@@ -134,7 +128,7 @@ TEST_CASE("loop correction: lines and planes follow the keyframe that created th
   std::map<int64_t, SE3> before;
   for (const auto& [id, k] : s.map.keyframes) before[id] = k->T_cw;
   // Keyframe 0 created the plane, keyframe 1 the line; the correction moves keyframe 1 only.
-  const SE3 corr = GbaPose(0.1, {0.05, -0.02, 0.3});
+  const SE3 corr = test::YawPose(0.1, {0.05, -0.02, 0.3});
   s.map.kf(1)->T_cw = s.map.kf(1)->T_cw * corr;
   const Eigen::Vector3d Ps_cam = before[1] * s.map.good_line(s.line)->P_s, Pe_cam = before[1] * s.map.good_line(s.line)->P_e;
   loop::MoveStructureWithKeyFrames(s.map, before);

@@ -8,17 +8,11 @@
 #include "core/rng.h"
 #include "loop/essential_graph.h"
 #include "loop/se3_solver.h"
+#include "loop/yaw_pose.h"
 
 using namespace dynref;
 
 namespace {
-
-SE3 Pose(double yaw, const Eigen::Vector3d& t) {
-  SE3 T = SE3::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  T.translation() = t;
-  return T;
-}
 
 Intrinsics K() { return {535.4, 539.2, 320.1, 247.6, 40.0, 640, 480}; }
 
@@ -30,7 +24,7 @@ Eigen::Vector2d Project(const Eigen::Vector3d& X) {
 }  // namespace
 
 TEST_CASE("SE(3) RANSAC: a planted transform is recovered among 30 % outliers, the same for the same seed") {
-  const SE3 T_12 = Pose(0.2, {0.1, -0.05, 0.3});
+  const SE3 T_12 = test::YawPose(0.2, {0.1, -0.05, 0.3});
   Rng rng(3, "test.points");
   std::vector<loop::Se3Match> matches;
   for (int i = 0; i < 100; ++i) {
@@ -62,8 +56,8 @@ TEST_CASE("essential graph: a drifted loop of poses is closed by its loop edge, 
   std::map<int64_t, SE3> truth, drifted;
   for (int i = 0; i < 8; ++i) {
     const double a = 2 * 3.14159265358979323846 * i / 8;
-    truth[i] = Pose(a, {std::sin(a), 0, std::cos(a)});
-    drifted[i] = Pose(a + 0.01 * i, {std::sin(a) + 0.02 * i, 0.01 * i, std::cos(a)});
+    truth[i] = test::YawPose(a, {std::sin(a), 0, std::cos(a)});
+    drifted[i] = test::YawPose(a + 0.01 * i, {std::sin(a) + 0.02 * i, 0.01 * i, std::cos(a)});
   }
   std::vector<loop::PoseGraphEdge> edges;
   for (int i = 1; i < 8; ++i) edges.push_back({i, i - 1, SE3(truth[i - 1] * truth[i].inverse())});
