@@ -163,8 +163,9 @@ void CorrectMovePoints(Map& map, const std::map<int64_t, int64_t>& corrected_by,
 void LoopCloser::CorrectLoop(KeyFrame& kf, const Candidate& c, LoopEvent* event) {
   map_.UpdateConnections(kf.id);
   std::map<int64_t, SE3> T_cw_before;  // every keyframe before the correction: lines and planes follow
-  for (const auto& [id, k] : map_.keyframes)
-    if (!k->bad) T_cw_before[id] = k->T_cw;
+  if (structure_ != nullptr)
+    for (const auto& [id, k] : map_.keyframes)
+      if (!k->bad) T_cw_before[id] = k->T_cw;
   // The keyframe and its covisibles with their poses before and after the correction.
   const std::vector<int64_t> connected = CorrectConnectedKeyFrames(map_, kf);
   const SE3 T_wc = kf.T_cw.inverse();

@@ -319,29 +319,33 @@ std::vector<BAEdge> LocalBaMakeEdges(const std::map<int64_t, size_t>& kf_index,
   return edges;
 }
 
+// Edges of one kind of structure observation (line or plane): keyframe and landmark indices.
+template <class Observation, class LandmarkId>
+std::vector<StructureEdge> LocalBaStructureEdgesOf(const std::vector<Observation>& observations,
+                                                   const std::map<int64_t, size_t>& kf_index,
+                                                   const std::map<int64_t, size_t>& landmark_index,
+                                                   LandmarkId landmark_id, const std::string& kind) {
+  std::vector<StructureEdge> edges(observations.size());
+  for (size_t i = 0; i < edges.size(); ++i) {
+    const Observation& o = observations[i];
+    const auto kf = kf_index.find(o.kf_id);
+    const auto l = landmark_index.find(landmark_id(o));
+    if (kf == kf_index.end() || l == landmark_index.end() || !(o.weight >= 0))
+      throw InputError("LocalBundleAdjust", kind + " observation " + std::to_string(i) + ": unknown id or negative weight");
+    edges[i] = {i, kf->second, l->second};
+  }
+  return edges;
+}
+
 // Edges of the line and plane observations.
 void LocalBaMakeStructureEdges(const LocalBAStructure& st, const std::map<int64_t, size_t>& kf_index,
                                std::vector<StructureEdge>* line_edges, std::vector<StructureEdge>* plane_edges) {
-  line_edges->resize(st.line_observations.size());
-  plane_edges->resize(st.plane_observations.size());
   const std::map<int64_t, size_t> line_index = IndexById(st.lines, "line");
   const std::map<int64_t, size_t> plane_index = IndexById(st.planes, "plane");
-  for (size_t i = 0; i < line_edges->size(); ++i) {
-    const BALineObservation& o = st.line_observations[i];
-    const auto kf = kf_index.find(o.kf_id);
-    const auto l = line_index.find(o.line_id);
-    if (kf == kf_index.end() || l == line_index.end() || !(o.weight >= 0))
-      throw InputError("LocalBundleAdjust", "line observation " + std::to_string(i) + ": unknown id or negative weight");
-    (*line_edges)[i] = {i, kf->second, l->second};
-  }
-  for (size_t i = 0; i < plane_edges->size(); ++i) {
-    const BAPlaneObservation& o = st.plane_observations[i];
-    const auto kf = kf_index.find(o.kf_id);
-    const auto p = plane_index.find(o.plane_id);
-    if (kf == kf_index.end() || p == plane_index.end() || !(o.weight >= 0))
-      throw InputError("LocalBundleAdjust", "plane observation " + std::to_string(i) + ": unknown id or negative weight");
-    (*plane_edges)[i] = {i, kf->second, p->second};
-  }
+  *line_edges = LocalBaStructureEdgesOf(st.line_observations, kf_index, line_index,
+                                        [](const BALineObservation& o) { return o.line_id; }, "line");
+  *plane_edges = LocalBaStructureEdgesOf(st.plane_observations, kf_index, plane_index,
+                                         [](const BAPlaneObservation& o) { return o.plane_id; }, "plane");
 }
 
 // The terms of one LocalBundleAdjust call and their chi2 at given poses.

@@ -76,9 +76,9 @@ struct PoseOptState {
   size_t n = 0, n_lines = 0, n_planes = 0;
   bool log = false;
   double line_th = 0, plane_th = 0;
-  std::vector<EdgeModel> edges;
-  std::vector<double> chi2, line_chi2, plane_chi2;
-  std::vector<std::vector<double>> residual_start, line_start, plane_start;  // only when logging
+  std::vector<EdgeModel> edges{};
+  std::vector<double> chi2{}, line_chi2{}, plane_chi2{};
+  std::vector<std::vector<double>> residual_start{}, line_start{}, plane_start{};  // only when logging
 };
 
 // Initial classification: only terms in front of the camera enter the first round

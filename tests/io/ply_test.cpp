@@ -24,6 +24,12 @@ void PlyCheckSame(const PointCloud& a, const PointCloud& b) {
   }
 }
 
+
+// ReadPly of `text` with its first `from` replaced by `to`, written as dir/name.
+PointCloud PlyReadPatched(const std::string& text, const std::string& from, const std::string& to,
+                          const std::string& dir, const std::string& name) {
+  return ReadPly(dynref::test::WritePatched(text, from, to, dir + "/" + name));
+}
 }  // namespace
 
 TEST_CASE("io ply: binary and ASCII round-trip exactly, header is standard") {
@@ -61,16 +67,16 @@ TEST_CASE("io ply: counts, undeclared trailing data and non-finite points are er
   WritePly(dir + "/many.ply", many);
   const std::string bin = dynref::test::ReadFileBytes(dir + "/many.ply");
   // The header says 100, the file holds 150: no longer reads 100 silently.
-  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(bin, "element vertex 150", "element vertex 100", dir + "/trail.ply")),
+  CHECK_THROWS_WITH(PlyReadPatched(bin, "element vertex 150", "element vertex 100", dir, "trail.ply"),
                     Catch::Contains("trail.ply: 750 bytes of data after the 100 vertices (line 3)"));
-  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(bin, "element vertex 150", "element vertex 200", dir + "/short.ply")),
+  CHECK_THROWS_WITH(PlyReadPatched(bin, "element vertex 150", "element vertex 200", dir, "short.ply"),
                     Catch::Contains("short.ply: truncated"));
   // A negative or non-decimal count: file:line, not a wrapped-around size (bad_alloc / assertion).
-  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(bin, "element vertex 150", "element vertex -5", dir + "/neg.ply")),
+  CHECK_THROWS_WITH(PlyReadPatched(bin, "element vertex 150", "element vertex -5", dir, "neg.ply"),
                     Catch::Contains("neg.ply:3: vertex count '-5' is not a whole number >= 0"));
-  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(bin, "element vertex 150", "element vertex 1e9", dir + "/exp.ply")),
+  CHECK_THROWS_WITH(PlyReadPatched(bin, "element vertex 150", "element vertex 1e9", dir, "exp.ply"),
                     Catch::Contains("exp.ply:3:"));
-  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(bin, "element vertex 150", "element vertex 99999999999999", dir + "/huge.ply")),
+  CHECK_THROWS_WITH(PlyReadPatched(bin, "element vertex 150", "element vertex 99999999999999", dir, "huge.ply"),
                     Catch::Contains("huge.ply: truncated"));
   // NaN: binary names the vertex, ASCII the line (header: 10 lines, vertex 1 on line 12).
   PointCloud bad = dynref::test::SamplePointCloud();
@@ -85,16 +91,16 @@ TEST_CASE("io ply: counts, undeclared trailing data and non-finite points are er
   // ASCII: a line beyond the declared count, a short file, a bad colour.
   WritePly(dir + "/a.ply", dynref::test::SamplePointCloud(), PlyFormat::kAscii);
   const std::string ascii = dynref::test::ReadFileBytes(dir + "/a.ply");
-  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(ascii, "element vertex 3", "element vertex 2", dir + "/a_trail.ply")),
+  CHECK_THROWS_WITH(PlyReadPatched(ascii, "element vertex 3", "element vertex 2", dir, "a_trail.ply"),
                     Catch::Contains("a_trail.ply:13: data after the 2 vertices (line 3)"));
-  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(ascii, "element vertex 3", "element vertex 4", dir + "/a_short.ply")),
+  CHECK_THROWS_WITH(PlyReadPatched(ascii, "element vertex 3", "element vertex 4", dir, "a_short.ply"),
                     Catch::Contains("a_short.ply"));
-  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(ascii, " 255 1 2\n", " 256 1 2\n", dir + "/a_colour.ply")),
+  CHECK_THROWS_WITH(PlyReadPatched(ascii, " 255 1 2\n", " 256 1 2\n", dir, "a_colour.ply"),
                     Catch::Contains("a_colour.ply:11: colour '256'"));
-  CHECK_THROWS_WITH(ReadPly(dynref::test::WritePatched(ascii, "element vertex 3", "element vertex -5", dir + "/a_neg.ply")),
+  CHECK_THROWS_WITH(PlyReadPatched(ascii, "element vertex 3", "element vertex -5", dir, "a_neg.ply"),
                     Catch::Contains("a_neg.ply:3:"));
   // What WritePly writes still reads back (blank trailing lines in ASCII are fine).
-  PlyCheckSame(ReadPly(dynref::test::WritePatched(ascii, "end_header\n", "end_header\n", dir + "/a_same.ply")), dynref::test::SamplePointCloud());
+  PlyCheckSame(PlyReadPatched(ascii, "end_header\n", "end_header\n", dir, "a_same.ply"), dynref::test::SamplePointCloud());
   std::ofstream(dir + "/a_same.ply", std::ios::app) << "\n\n";
   PlyCheckSame(ReadPly(dir + "/a_same.ply"), dynref::test::SamplePointCloud());
   CHECK(ReadPly(dir + "/many.ply").size() == 150);
