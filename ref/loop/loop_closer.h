@@ -48,7 +48,7 @@
 namespace dynref::loop {
 
 struct LoopClosingOptions {
-  bool enabled = false;
+  bool enabled = true;               // ORB-SLAM2 runs LoopClosing (backbone.loop_closing)
   LoopDetectorOptions detector;
   int bow_min_matches = 20;          // ORB-SLAM2 ComputeSim3: nmatches < 20 discarded
   Se3RansacOptions ransac;           // ORB-SLAM2 SetRansacParameters(0.99, 20, 300)

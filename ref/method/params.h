@@ -18,6 +18,7 @@ struct Param {
   std::string file;                  // config file and line (for error messages)
   int line = 0;
   std::string name;                  // key as written, with its stage ("sgdo.depth.eta"), for messages
+  bool defaulted = false;            // filled in from the default (a backbone key the config omits)
   // InputError (file:line, naming the key) when the text is not of the requested type.
   double AsDouble() const;
   int64_t AsInt() const;

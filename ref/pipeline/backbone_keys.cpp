@@ -212,7 +212,7 @@ std::vector<BackboneKeyRow> PlaceKeys() {
               "tracking and relocalisation",
               [](auto& o) -> auto& { return o.tracker.bow_matching; }),
       FlagKey("loop_closing",
-              "dynref (issue 34): ORB-SLAM2 runs LoopClosing; off by default until it is validated over seeds 1-3 (reports/loop_closing.md: one seed so far; switching it on changes every golden); "
+              "default: ORB-SLAM2 runs LoopClosing (validated over seeds 1-3, reports/loop_closing.md); false = dynref before issue 34; "
               "true = ORB-SLAM2's loop detection, SE(3) RANSAC, loop fusion, essential graph and global BA after local "
               "mapping of each keyframe (ref/loop/README.md; backbone.vocabulary)",
               [](auto& o) -> auto& { return o.loop.enabled; }),
@@ -222,8 +222,9 @@ std::vector<BackboneKeyRow> PlaceKeys() {
              "not stated: dynref has no BoW database; relocalisation tries the 10 most recent keyframes",
              [](auto& o) -> auto& { return o.tracker.reloc_recent_keyframes; }),
       TextKey("relocalisation", "recent|bow",
-              "dynref (issue 34): recent = the reloc_recent_keyframes most recent keyframes (dynref before issue 34); bow = "
-              "ORB-SLAM2 KeyFrameDatabase::DetectRelocalizationCandidates over the whole map (backbone.vocabulary)",
+              "default: ORB-SLAM2 KeyFrameDatabase::DetectRelocalizationCandidates over the whole map (bow; backbone.vocabulary); "
+              "recent = the reloc_recent_keyframes most recent keyframes (dynref before issue 34; reports/loop_closing.md "
+              "compares them)",
               [](auto& o) -> auto& { return o.tracker.relocalisation; }),
       PathKey("vocabulary", "default",
               "dynref (issue 34): default = the embedded models/vocab/dynref_orb_k10_l4.txt; else a vocabulary file in "

@@ -151,6 +151,26 @@ void SetBackboneKey(BackboneOptions& o, const std::string& key, const std::strin
   ApplyBackboneParam(*r, p, o);
 }
 
+namespace {
+
+// The vocabulary is binary (ORB-SLAM2's): with float descriptors the keys that need it and were
+// left at their defaults take dynref's vocabulary-free behaviour (no loop closing, the recent
+// keyframes for relocalisation), with that reason as their source; set explicitly, they are
+// refused by CheckBackboneCombinations.
+void FallBackWithoutVocabulary(BackboneOptions& o, std::map<std::string, Param>& all) {
+  if (o.extractor.type == "orb") return;
+  for (const auto& [key, value] : {std::pair<std::string, std::string>{"loop_closing", "false"}, {"relocalisation", "recent"}}) {
+    Param& p = all.at(key);
+    if (!p.defaulted) continue;
+    p.value = value;
+    p.source = "dynref: features " + o.extractor.type +
+               " has no vocabulary (ref/place/README.md 'Float descriptors'): the default falls back to " + value;
+    ApplyBackboneParam(*FindBackboneRow(key), p, o);
+  }
+}
+
+}  // namespace
+
 BackboneOptions ResolveBackbone(const std::map<std::string, Param>& given, const std::string& config_path,
                                 std::map<std::string, Param>* resolved) {
   for (const auto& [key, p] : given)
@@ -161,16 +181,18 @@ BackboneOptions ResolveBackbone(const std::map<std::string, Param>& given, const
   for (const BackboneKeyRow& r : BackboneKeyRows()) {
     auto it = given.find(r.key);
     Param p;
-    if (it != given.end()) {
+    if (it != given.end() && !it->second.defaulted) {
       p = it->second;
-    } else {
+    } else {  // absent, or a default of an earlier resolution (it follows the other keys again)
       p.value = BackboneValueText(r, defaults);
       p.source = r.source;
       p.file = config_path;
+      p.defaulted = true;
     }
     ApplyBackboneParam(r, p, o);
     all[r.key] = p;
   }
+  FallBackWithoutVocabulary(o, all);
   CheckBackboneCombinations(o, all);
   o.Check();
   if (resolved != nullptr) *resolved = std::move(all);

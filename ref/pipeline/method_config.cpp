@@ -200,6 +200,7 @@ void MethodConfig::SetBackboneParam(const std::string& key, const std::string& v
   it->second.value = value;
   it->second.list.clear();
   it->second.source = source;
+  it->second.defaulted = false;
   backbone = ResolveBackbone(backbone_params, path, &backbone_params);
 }
 
@@ -253,6 +254,7 @@ void MethodConfig::ApplySets(const std::vector<std::string>& items, const std::s
     p->file = where;  // messages name the --set argument; relative paths are the working directory's
     p->line = 0;
     p->name = stage + "." + key;
+    p->defaulted = false;  // set by the user now
   }
   backbone = ResolveBackbone(backbone_params, path, &backbone_params);
 }

@@ -6,6 +6,7 @@
 // involved.
 #include <opencv2/calib3d.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 
@@ -162,10 +163,26 @@ int Tracker::RelocaliseByProjection(Frame& f, const KeyFrame& kf, int good) {
   return good;
 }
 
-// The candidate's matches, PnP RANSAC and pose optimisation; true with >= 50 inliers.
+// The candidate's matches, PnP RANSAC and pose optimisation; true with >= 50 inliers. Each
+// candidate leaves its keyframe and how far it got (track.reloc candidate_*: matches, PnP
+// inliers, optimised inliers; -1 = that step was not reached).
 bool Tracker::RelocaliseFrom(Frame& f, const KeyFrame& kf, const PlaceBow& frame_bow) {
+  int n = -1, pnp = -1, good = -1;
+  const bool ok = RelocaliseSteps(f, kf, frame_bow, &n, &pnp, &good);
+  trace_.FrameCount("track.reloc", "candidate_kf", kf.id);
+  trace_.FrameCount("track.reloc", "candidate_matches", n);
+  trace_.FrameCount("track.reloc", "candidate_pnp_inliers", pnp);
+  trace_.FrameCount("track.reloc", "candidate_inliers", good);
+  if (!ok) return false;
+  last_reloc_frame_ = f.index;
+  trace_.FrameCount("track.reloc", "inliers", good);
+  return true;
+}
+
+bool Tracker::RelocaliseSteps(Frame& f, const KeyFrame& kf, const PlaceBow& frame_bow, int* n_matches, int* n_pnp,
+                              int* n_good) {
   std::fill(f.map_point_ids.begin(), f.map_point_ids.end(), -1);
-  const int n = MatchRelocalisationCandidate(kf, f, map_, options_, place_, frame_bow);
+  const int n = *n_matches = MatchRelocalisationCandidate(kf, f, map_, options_, place_, frame_bow);
   if (n < 15) return false;
   std::vector<int> idx;
   std::vector<Eigen::Vector3d> X;
@@ -176,18 +193,17 @@ bool Tracker::RelocaliseFrom(Frame& f, const KeyFrame& kf, const PlaceBow& frame
   }
   SE3 T;
   std::vector<uint8_t> inl;
-  if (!PnpRansac(f, idx, X, &T, &inl)) return false;
+  const bool found = PnpRansac(f, idx, X, &T, &inl);
+  *n_pnp = found ? static_cast<int>(std::count(inl.begin(), inl.end(), uint8_t{1})) : 0;
+  if (!found) return false;
   for (size_t k = 0; k < idx.size(); ++k)
     if (!inl[k]) f.map_point_ids[idx[k]] = -1;
   f.T_cw = T;
-  int good = OptimizePose(f);
+  int good = *n_good = OptimizePose(f);
   if (good < 10) return false;
   DropRelocOutliers(f);
-  if (good < 50) good = RelocaliseByProjection(f, kf, good);
-  if (good < 50) return false;
-  last_reloc_frame_ = f.index;
-  trace_.FrameCount("track.reloc", "inliers", good);
-  return true;
+  if (good < 50) good = *n_good = RelocaliseByProjection(f, kf, good);
+  return good >= 50;
 }
 
 bool Tracker::Relocalise(Frame& f) {

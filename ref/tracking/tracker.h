@@ -29,9 +29,9 @@ struct TrackerOptions {
   int max_frames = 30;         // ORB-SLAM2 mMaxFrames = fps
   int min_frames = 0;          // ORB-SLAM2 mMinFrames
   int reloc_recent_keyframes = 10;  // relocalisation candidates (no BoW database: most recent)
-  // Issue 34 (tracking/relocaliser_bow.h): "recent" = the reloc_recent_keyframes most recent
-  // keyframes; "bow" = ORB-SLAM2's keyframe-database query over the whole map.
-  std::string relocalisation = "recent";
+  // Issue 34 (tracking/relocaliser_bow.h): "bow" = ORB-SLAM2's keyframe-database query over the
+  // whole map; "recent" = the reloc_recent_keyframes most recent keyframes (dynref before it).
+  std::string relocalisation = "bow";
   bool bow_matching = false;  // ORB-SLAM2 SearchByBoW in reference-keyframe tracking / relocalisation
   int ransac_iterations = 300; // ORB-SLAM2 PnPsolver SetRansacParameters(0.99, 10, 300, 4, 0.5, 5.991)
   uint64_t seed = 1;
@@ -101,6 +101,7 @@ class Tracker {
   // relocalise.cpp
   bool Relocalise(Frame& f);
   bool RelocaliseFrom(Frame& f, const KeyFrame& kf, const PlaceBow& frame_bow);
+  bool RelocaliseSteps(Frame& f, const KeyFrame& kf, const PlaceBow& frame_bow, int* n_matches, int* n_pnp, int* n_good);
   int RelocaliseByProjection(Frame& f, const KeyFrame& kf, int good);  // returns the inliers
   bool PnpRansac(const Frame& f, const std::vector<int>& idx, const std::vector<Eigen::Vector3d>& X,
                  SE3* T_cw, std::vector<uint8_t>* inliers);

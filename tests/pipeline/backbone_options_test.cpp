@@ -155,3 +155,26 @@ TEST_CASE("backbone options: the feature plug-in keys (issue 17) reach the extra
   CHECK_THROWS_WITH(ResolveBackbone({{"mnn2_ratio", BackboneTestParam("0")}}, "t.yaml", nullptr),
                     Contains("backbone.mnn2_ratio: must be in (0, 1], got 0"));
 }
+
+TEST_CASE("backbone options: loop closing and BoW relocalisation on by default, off by default without a vocabulary") {
+  std::map<std::string, Param> resolved;
+  const BackboneOptions orb = ResolveBackbone({}, "t.yaml", &resolved);
+  CHECK(orb.loop.enabled);  // ORB-SLAM2 runs LoopClosing (issue 34)
+  CHECK(orb.tracker.relocalisation == "bow");
+  CHECK(resolved.at("loop_closing").defaulted);
+  // Float descriptors have no vocabulary: the defaults fall back, and the source says why.
+  const BackboneOptions sift = ResolveBackbone({{"features", BackboneTestParam("sift")}}, "t.yaml", &resolved);
+  CHECK_FALSE(sift.loop.enabled);
+  CHECK(sift.tracker.relocalisation == "recent");
+  CHECK(resolved.at("loop_closing").source.find("has no vocabulary") != std::string::npos);
+  // Resolved again with ORB (as `--set backbone.features=orb` does): the defaults come back.
+  resolved.at("features") = BackboneTestParam("orb");
+  const BackboneOptions again = ResolveBackbone(resolved, "t.yaml", &resolved);
+  CHECK(again.loop.enabled);
+  CHECK(again.tracker.relocalisation == "bow");
+  // Set explicitly with float descriptors: refused at the key's line.
+  using Catch::Matchers::Contains;
+  CHECK_THROWS_WITH(ResolveBackbone({{"features", BackboneTestParam("sift")}, {"loop_closing", BackboneTestParam("true")}},
+                                    "t.yaml", nullptr),
+                    Contains("t.yaml:5: backbone: the vocabulary needs features: orb"));
+}
