@@ -51,7 +51,8 @@ struct TrackState {
   size_t rec = 0;              // record index in the frame
   bool pasted = false;
   double cx = 0, cy = 0, t = 0;  // the corner the line fit uses and its time
-  Box box;                     // the state's box (the next association and paste start from it)
+  Box box;                     // the state's box (the next association starts from it)
+  double ax = 0, ay = 0;       // its mask's anchor: box corner (person) or from + (dx, dy) (paste)
   int64_t consecutive = 0;     // frames in a row predicted (0 for a segmented person)
 };
 
@@ -117,6 +118,8 @@ class BlurIndex {
           s.cy = s.pasted ? Input(r, "to_y").value_or(0) : double(s.box.y0);
           s.t = s.pasted ? Input(r, "t_c").value_or(0) : Input(r, "t").value_or(0);
           s.consecutive = s.pasted ? int64_t(Input(r, "consecutive").value_or(0)) : 0;
+          s.ax = s.pasted ? Input(r, "from_x").value_or(0) + Input(r, "dx").value_or(0) : double(s.box.x0);
+          s.ay = s.pasted ? Input(r, "from_y").value_or(0) + Input(r, "dy").value_or(0) : double(s.box.y0);
           b.tracks[int64_t(*track)] = s;
           max_track = std::max(max_track, int64_t(*track));
         }
@@ -357,9 +360,9 @@ class PasteVerifier : public BlurVerifier {
     const auto [px, py] = FitCorner(h, t_c);
     c.Near("in.to_x", px, *Input(r, "to_x"));
     c.Near("in.to_y", py, *Input(r, "to_y"));
-    c.Near("in.from_x", double(s.box.x0), *Input(r, "from_x"), 0);
-    c.Near("in.from_y", double(s.box.y0), *Input(r, "from_y"), 0);
-    const int64_t dx = std::lround(px - double(s.box.x0)), dy = std::lround(py - double(s.box.y0));
+    c.Near("in.from_x", s.ax, *Input(r, "from_x"), 0);
+    c.Near("in.from_y", s.ay, *Input(r, "from_y"), 0);
+    const int64_t dx = std::lround(px - s.ax), dy = std::lround(py - s.ay);
     c.Near("in.dx", double(dx), *Input(r, "dx"), 0);
     c.Near("in.dy", double(dy), *Input(r, "dy"), 0);
     // The last mask translated by (dx, dy), clipped: its tight box is the translated box when

@@ -185,17 +185,23 @@ class PoseVerifier : public Verifier {
   }
 };
 
-// The epipolar distance of Eq. (14) with F = K^-T [t]x R K^-1 (Eq. (12)); +inf on a zero line.
+// The epipolar distance of Eq. (14) with F = K^-T [t]x R K^-1 (Eq. (12)); t = 0 (no F): the
+// distance to H p_prev, H = K R K^-1, the point the line tends to; a zero line otherwise: NaN.
 double EpipolarDistancePx(const CameraModel& cam, const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double u0,
                           double v0, double u1, double v1) {
-  Eigen::Matrix3d K_inv;
+  Eigen::Matrix3d K, K_inv;
+  K << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1;
   K_inv << 1 / cam.fx, 0, -cam.cx / cam.fx, 0, 1 / cam.fy, -cam.cy / cam.fy, 0, 0, 1;
+  if (t.x() == 0 && t.y() == 0 && t.z() == 0) {
+    const Eigen::Vector3d h = K * R * K_inv * Eigen::Vector3d(u0, v0, 1);
+    return std::hypot(u1 - h.x() / h.z(), v1 - h.y() / h.z());
+  }
   Eigen::Matrix3d tx;
   tx << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(), 0;
   const Eigen::Matrix3d F = K_inv.transpose() * tx * R * K_inv;
   const Eigen::Vector3d l = F * Eigen::Vector3d(u0, v0, 1);  // l = F p_(k-1) = (A, B, C)
   const double norm = std::hypot(l.x(), l.y());
-  if (norm == 0) return kInf;
+  if (norm == 0) return kNaN;
   return std::abs(l.x() * u1 + l.y() * v1 + l.z()) / norm;
 }
 

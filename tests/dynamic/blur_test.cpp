@@ -100,6 +100,31 @@ TEST_CASE("blur: a person who left is predicted at most max_consecutive frames, 
   CHECK_FALSE(r.triggered);
 }
 
+// Issue 38: a paste clipped at the image edge keeps the unclipped corner it was moved to; the
+// next paste moves the mask by the fitted velocity from there. Translating from the clipped box
+// (x = 0) moved it 20 px too far each frame and dropped a person still 10 px in view.
+TEST_CASE("blur: a person leaving the image is pasted at the fitted velocity, also after a clipped paste") {
+  MissedSegmentationCompensator c(CompensationOptions{}, cv::Size(640, 480));
+  for (int i = 0; i < 3; ++i) c.Process(0.1 * i, {Box(60 - 20 * i, 100, 50, 100)});  // x = 60, 40, 20
+  const auto r3 = c.Process(0.3, {});  // missed: predicted x = 0, whole mask in the image
+  REQUIRE(r3.pasted.size() == 1);
+  CHECK(r3.pasted[0].shift == cv::Point(-20, 0));
+  CHECK(r3.pasted[0].box == cv::Rect(0, 100, 50, 100));
+  const auto r4 = c.Process(0.4, {});  // predicted x = -20: clipped to x 0..29
+  REQUIRE(r4.pasted.size() == 1);
+  CHECK(r4.pasted[0].from == cv::Point2d(0, 100));
+  CHECK(r4.pasted[0].shift == cv::Point(-20, 0));
+  CHECK(r4.pasted[0].box == cv::Rect(0, 100, 30, 100));
+  const auto r5 = c.Process(0.5, {});  // predicted x = -40: 10 px still in view
+  REQUIRE(r5.pasted.size() == 1);
+  CHECK(r5.pasted[0].from == cv::Point2d(-20, 100));  // the anchor, not the clipped box's x = 0
+  CHECK(r5.pasted[0].to.x == Approx(-40));
+  CHECK(r5.pasted[0].shift == cv::Point(-20, 0));
+  CHECK(r5.pasted[0].box == cv::Rect(0, 100, 10, 100));
+  CHECK(r5.pasted[0].moved_px == 1000);
+  CHECK(r5.dropped.empty());
+}
+
 TEST_CASE("blur: human value range and 3-sigma screen, hand-computed") {
   // Box 100x100 at (200, 100): left half a person at 1.5 m, right half a wall at 3.0 m.
   cv::Mat depth(480, 640, CV_32F, cv::Scalar(4.0f));

@@ -14,6 +14,7 @@
 #include "dynamic/epi/enhance.h"
 #include "dynamic/epi/enhance_terms.h"
 #include "dynamic/epi/mask_vote.h"
+#include "geometry/fundamental.h"
 #include "geometry/rigid_ransac.h"
 #include "method_e2e.h"
 
@@ -156,6 +157,27 @@ TEST_CASE("epi mask vote: more than 60 % violating is dynamic, exactly 60 % is n
   CHECK(v.at(3).matched == 0);
   CHECK(v.at(3).dynamic);
   CHECK(v.at(4).dynamic);
+}
+
+// Issue 38: a still camera (t = 0) has no fundamental matrix; the old distance was +inf, so every
+// tracked in-mask keypoint of such a frame "violated" and every mask with a match was dynamic.
+TEST_CASE("epi vote distance: t = 0 takes the rotation-only limit, t != 0 is Eq. (14)") {
+  Eigen::Matrix3d K;
+  K << 500, 0, 320, 0, 500, 240, 0, 0, 1;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.02, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Eigen::Vector2d p(100, 200);
+  const Eigen::Vector2d Hp = (K * R * K.inverse() * p.homogeneous()).hnormalized();
+  // Still camera, rotating: a static point lands on H p (distance 0), one 3 px off it is 3 px away.
+  CHECK(VoteDistance(K, R, Eigen::Vector3d::Zero(), p, Hp) == Approx(0).margin(1e-9));
+  CHECK(VoteDistance(K, R, Eigen::Vector3d::Zero(), p, Hp + Eigen::Vector2d(0, 3)) == Approx(3));
+  const std::vector<double> d = {VoteDistance(K, R, Eigen::Vector3d::Zero(), p, Hp),
+                                 VoteDistance(K, Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero(), p, p)};
+  CHECK_FALSE(VoteMasks({1, 1}, d, {1}, MaskVoteOptions{}).at(1).dynamic);  // was: 2 of 2 violating
+  // Moving camera: the point-to-line distance of Eq. (14).
+  const Eigen::Vector3d t(0.1, 0, 0);
+  const Eigen::Vector2d q(150, 260);
+  CHECK(VoteDistance(K, R, t, p, q) ==
+        Approx(geometry::EpipolarDistance(geometry::FundamentalFromPose(K, R, t), p, q)));
 }
 
 TEST_CASE("epi end to end: dynref enhance, and A + C on a low-light walking sequence", "[cli]") {

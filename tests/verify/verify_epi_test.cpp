@@ -43,7 +43,7 @@ std::string EpiConfig() {
         {"params", {{"epi_threshold_px", EpiParam(1.0)}, {"vote_ratio", EpiParam(0.6)}, {"pose_min_inliers", EpiParam(12)}}}},
        {{"name", "epi.nerf"},
         {"params", {{"parallax_cos_max", EpiParam(0.9998)}, {"reprojection_px", EpiParam(2.447651936)},
-                    {"mnn_ratio", EpiParam(0.95)}, {"mnn_tau_bits", EpiParam(100)}}}}});
+                    {"mnn_ratio", EpiParam(0.95)}}}}});
   return c.dump();
 }
 

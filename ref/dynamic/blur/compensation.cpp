@@ -84,6 +84,7 @@ void MissedSegmentationCompensator::ContinueTracks(double t, const std::vector<P
     while (int(tr.history.size()) > o_.history) tr.history.pop_front();
     tr.mask = persons[b].mask;
     tr.box = persons[b].box;
+    tr.anchor = persons[b].box.tl();
     tr.consecutive = 0;
     res->boxes.push_back(tr.box);
     next->push_back(std::move(tr));
@@ -105,7 +106,7 @@ void MissedSegmentationCompensator::PasteMissed(double t, const std::vector<bool
     Track tr = tracks_[a];
     const std::vector<CornerSample> h(tr.history.begin(), tr.history.end());
     const cv::Point2d to = PredictCorner(h, t);
-    const int dx = int(std::lround(to.x - tr.box.x)), dy = int(std::lround(to.y - tr.box.y));
+    const int dx = int(std::lround(to.x - tr.anchor.x)), dy = int(std::lround(to.y - tr.anchor.y));
     // Translate the last mask by (dx, dy), clipped to the image.
     cv::Mat moved = cv::Mat::zeros(size_, CV_8U);
     const cv::Rect src = image & (image - cv::Point(dx, dy));
@@ -119,7 +120,7 @@ void MissedSegmentationCompensator::PasteMissed(double t, const std::vector<bool
     pm.track = tr.id;
     pm.samples = int(h.size());
     pm.history = h;
-    pm.from = {double(tr.box.x), double(tr.box.y)};
+    pm.from = {double(tr.anchor.x), double(tr.anchor.y)};
     pm.to = to;
     pm.shift = {dx, dy};
     pm.moved_px = moved_px;
@@ -130,6 +131,7 @@ void MissedSegmentationCompensator::PasteMissed(double t, const std::vector<bool
     // E2: the history continues with the compensated state, so repeated drop-outs are bridged.
     tr.mask = moved;
     tr.box = cv::boundingRect(moved);
+    tr.anchor += cv::Point(dx, dy);
     tr.history.push_back({to.x, to.y, t});
     while (int(tr.history.size()) > o_.history) tr.history.pop_front();
     ++tr.consecutive;

@@ -40,7 +40,7 @@ struct PastedMask {
   int track = 0;                  // track id (stable across frames)
   int samples = 0;                // history entries used for the fit
   std::vector<CornerSample> history;  // the (x, y, t) the fit used, oldest first (trace)
-  cv::Point2d from, to;           // last box corner and predicted corner
+  cv::Point2d from, to;           // the last mask's corner (its anchor) and the predicted corner
   cv::Point shift;                // (dx, dy) = round(to - from): the translation of the last mask
   cv::Rect box;                   // tight box of the translated, clipped mask
   int moved_px = 0;               // pixels of the translated, clipped mask
@@ -88,6 +88,10 @@ class MissedSegmentationCompensator {
     std::deque<CornerSample> history;  // newest last, at most options.history entries
     cv::Mat mask;                      // last (possibly pasted) mask
     cv::Rect box;
+    // Where the last mask's box corner sits unclipped: a person's box corner; after a paste the
+    // previous anchor + (dx, dy). A paste clipped at the image edge has a box that starts at
+    // the edge, so translating from the box would add the clipped part (issue 38).
+    cv::Point anchor;
     int consecutive = 0;               // frames in a row this track was predicted
   };
   // Steps of Process: association (E3), this frame's persons as tracks, pasting the missed ones.

@@ -1,7 +1,11 @@
 #include "dynamic/epi/mask_vote.h"
 
+#include <Eigen/Dense>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
+
+#include "geometry/fundamental.h"
 
 namespace dynref::epi {
 
@@ -27,6 +31,16 @@ std::map<int, MaskVote> VoteMasks(const std::vector<int>& instance_of, const std
     v.dynamic = v.matched == 0 || v.ratio > o.vote_ratio;  // E8; strict > (spec 004 (c))
   }
   return votes;
+}
+
+double VoteDistance(const Eigen::Matrix3d& K, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                    const Eigen::Vector2d& p_prev, const Eigen::Vector2d& p_cur) {
+  if (t.isZero(0)) {  // no epipolar geometry: the limit point of the line
+    const Eigen::Vector3d h = K * R * K.inverse() * p_prev.homogeneous();
+    return (p_cur - h.hnormalized()).norm();
+  }
+  const double d = geometry::EpipolarDistance(geometry::FundamentalFromPose(K, R, t), p_prev, p_cur);
+  return std::isinf(d) ? std::numeric_limits<double>::quiet_NaN() : d;
 }
 
 }  // namespace dynref::epi

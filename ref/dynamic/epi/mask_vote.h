@@ -3,6 +3,7 @@
 // a mask without any matched keypoint is dynamic (spec 004 E8, conservative: it is a
 // prior-dynamic class). Static-class masks never take part (E6).
 #pragma once
+#include <Eigen/Core>
 #include <map>
 #include <vector>
 
@@ -26,5 +27,13 @@ struct MaskVote {
 // plus every id of `masks` (masks without keypoints are voted too).
 std::map<int, MaskVote> VoteMasks(const std::vector<int>& instance_of, const std::vector<double>& distance,
                                   const std::vector<int>& masks, const MaskVoteOptions& o);
+
+// Eq. (14): distance of p_cur to the epipolar line F p_prev, F = K^-T [t]x R K^-1 (Eq. (12)), with
+// (R, t) = T_cur_prev. With t = 0 F vanishes and has no line; as t -> 0 the line passes through
+// H p_prev, H = K R K^-1 (rotation-only homography), so the distance is |p_cur - H p_prev| there
+// (issue 38: +inf made every in-mask keypoint of a still camera a violation). A point at the
+// epipole (zero line, t != 0) gives no evidence: NaN.
+double VoteDistance(const Eigen::Matrix3d& K, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
+                    const Eigen::Vector2d& p_prev, const Eigen::Vector2d& p_cur);
 
 }  // namespace dynref::epi

@@ -6,6 +6,7 @@
 // RUN/nerf/ is written: images/<stamp>.png, masks/<stamp>.png (nerfstudio: 255 = use the pixel,
 // 0 = dynamic), sparse_points.ply and transforms.json (last, atomically) with L_geo and the gate
 // counts under "dynref".
+#include <cmath>
 #include <filesystem>
 #include <utility>
 
@@ -19,15 +20,13 @@
 namespace dynref::epi {
 
 NerfModule::NerfModule(const ParamMap& p, std::shared_ptr<Blackboard> board) : board_(std::move(board)) {
-  p.RequireKnownKeys({"parallax_cos_max", "reprojection_px", "mnn_ratio", "mnn_tau_bits"});
+  p.RequireKnownKeys({"parallax_cos_max", "reprojection_px", "mnn_ratio"});
   gates_.parallax_cos_max = p.GetDouble("parallax_cos_max");
   gates_.reprojection_px = p.GetDouble("reprojection_px");
   match_.ratio = p.GetDouble("mnn_ratio");
-  match_.tau_bits = static_cast<int>(p.GetInt("mnn_tau_bits"));
   try {
     gates_.Check();
     if (!(match_.ratio > 0 && match_.ratio <= 1)) throw std::invalid_argument("mnn_ratio must be in (0, 1]");
-    if (match_.tau_bits < 1 || match_.tau_bits > 256) throw std::invalid_argument("mnn_tau_bits must be in 1..256");
   } catch (const std::invalid_argument& e) {
     throw InputError(p.file, p.line, "map module epi.nerf: " + std::string(e.what()));
   }
@@ -51,6 +50,11 @@ void NerfModule::OnKeyFrame(const MapModuleContext& ctx) {
   k.features = rows;
   k.frame_index = f.index;
   trace_ = &ctx.trace;
+  // MNN2's absolute gate in the descriptors' own unit: the extractor's TH_HIGH, as the backbone's
+  // MNN2 uses it (features/mnn2.h; ORB 100 bits, SIFT 0.60 squared L2 of unit rows). Issue 38: a
+  // bit count alone left SIFT at the ORB-equivalent 1.5625, above SIFT's wrong-match p95.
+  match_.tau_bits = static_cast<int>(std::lround(f.match_profile.th_high));
+  match_.tau_float = f.match_profile.th_high;
   k.descriptors.create(static_cast<int>(rows.size()), f.descriptors.cols, f.descriptors.type());
   for (size_t r = 0; r < rows.size(); ++r) f.descriptors.row(rows[r]).copyTo(k.descriptors.row(static_cast<int>(r)));
   ctx.trace.FrameCount(name(), "static_keypoints", static_cast<int64_t>(rows.size()));

@@ -27,7 +27,7 @@ void RegisterEpiParams(MethodRegistry& registry) {
         Integer("border_px", 1, 1000), Real("patch_sad_max", 0, 1e7), RealAbove("pose_inlier_px", 0, 100),
         Integer("pose_iterations", 1, 100000), Integer("pose_min_inliers", 1, 100000), Seed("ransac_seed")}});
   registry.AddParams("epi.nerf", {{BelowHi(RealAbove("parallax_cos_max", 0, 1)), RealAbove("reprojection_px", 0, 100),
-                                   RealAbove("mnn_ratio", 0, 1), Integer("mnn_tau_bits", 1, 256)}});
+                                   RealAbove("mnn_ratio", 0, 1)}});
 }
 
 }  // namespace dynref

@@ -4,7 +4,8 @@
 //      as sgdo), pruned at the border and by patch SAD; relative pose (R, t) from the A_s pairs with
 //      depth in both frames (RGB-D rigid RANSAC, geometry/rigid_ransac: "estimated assuming all
 //      points static"); Eq. (12) F = K^-T [t]x R K^-1 (geometry::FundamentalFromPose).
-//   c. Eq. (14): D = |A u + B v + C| / sqrt(A^2 + B^2) of every tracked in-mask keypoint, l = F p_(k-1).
+//   c. Eq. (14): D = |A u + B v + C| / sqrt(A^2 + B^2) of every tracked in-mask keypoint, l = F p_(k-1)
+//      (mask_vote.h VoteDistance; t = 0: the rotation-only limit |p_k - K R K^-1 p_(k-1)|).
 //   d. Each mask is dynamic when > 60 % of its matched keypoints have D > eps (mask_vote.h).
 //   e. Keypoints of dynamic masks are excluded (matched or not); the rest are the static set.
 // Without a previous frame or a pose (too few static pairs) every mask is dynamic (E8).
@@ -16,7 +17,6 @@
 
 #include "core/error.h"
 #include "dynamic/epi/stages.h"
-#include "geometry/fundamental.h"
 
 namespace dynref::epi {
 
@@ -120,18 +120,17 @@ EpiVotePose EpiVoteEstimatePose(const Camera& cam, const Frame& f, const Frame& 
     out.R = pose.R, out.t = pose.t;
     Eigen::Matrix3d K;
     K << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1;
-    const Eigen::Matrix3d F = geometry::FundamentalFromPose(K, pose.R, pose.t);
     // c. every tracked in-mask keypoint (pruning concerns the pose only, as in sgdo).
     for (size_t c = 0; c < pairs.size(); ++c) {
       if (instance_of[c] == 0 || !pairs[c].tracked) continue;
-      (*distance)[c] = geometry::EpipolarDistance(F, {prev_un[c].x, prev_un[c].y}, {cur_un[c].x, cur_un[c].y});
+      (*distance)[c] = VoteDistance(K, pose.R, pose.t, {prev_un[c].x, prev_un[c].y}, {cur_un[c].x, cur_un[c].y});
     }
   }
   return out;
 }
 
 // epi.pose (p = 0: a pose is no evidence of motion): the static-region pose (R, t) = T_cur_prev
-// F is built from (zero when no pose; t = 0 gives F = 0 and every distance +inf).
+// F is built from (zero when no pose; t = 0: VoteDistance's rotation-only limit).
 void EpiVoteTracePose(trace::TraceWriter& tr, const std::string& fid, const EpiVotePose& ps, int min_inliers) {
   std::vector<trace::NamedValue> in = {{"static_pairs", double(ps.static_pairs)}, {"inliers", double(ps.pose_inliers)},
                                        {"min_inliers", double(min_inliers)}, {"pose", ps.have_pose ? 1.0 : 0.0}};
