@@ -23,7 +23,11 @@ struct MgdOptions {
   std::string threshold_scale = "detector";    // "detector": calibrated to the source; "raw": 0.5 as is
   std::vector<int> dynamic_class_ids = {0, 24, 56, 26, 28};  // person, backpack, chair, handbag, suitcase (spec (c))
   bool initial_pose_out_of_box = true;         // spec E10: initial pose from out-of-box matches only (weight 0 in boxes)
-  // Temporal inheritance (Sec. 3.4).
+  // Temporal inheritance (Sec. 3.4): "a 3D map point observed in F_k" inherits from "the
+  // corresponding map representation", so the update runs after the local-map search has
+  // associated the frame's features (issue 38); false = right after the initial pose, before it
+  // (dynref before issue 38: half the final associations missed their map point's P).
+  bool after_local_map_search = true;
   double p_init_box = 0.5;                     // P_init of a new feature in a box (paper)
   double p_init_free = 0.0;                    // ... outside boxes (paper)
   double delta = 0.6;                          // descriptor similarity (Table 1): match iff Hamming <= (1 - delta) 256

@@ -10,7 +10,7 @@
 namespace dynref::mgd {
 
 MgdOptions ReadOptions(const ParamMap& p) {
-  p.RequireKnownKeys({"min_confidence", "threshold_scale", "dynamic_classes", "initial_pose_out_of_box", "p_init_box", "p_init_free",
+  p.RequireKnownKeys({"min_confidence", "threshold_scale", "dynamic_classes", "initial_pose_out_of_box", "after_local_map_search", "p_init_box", "p_init_free",
                       "delta", "match_radius_px", "use_ls", "use_pro", "use_mf", "d_th_ls_px", "theta_th_ls_rad",
                       "a_ls", "angle_form", "min_velocity_px", "d_th_pro_px", "a_pro", "d_th_mf_px", "a_mf", "w_ls",
                       "w_pro", "w_mf", "a", "smoothing", "diffusion", "radius_m", "tau_dyn", "weight", "line_cue_form",
@@ -20,6 +20,7 @@ MgdOptions ReadOptions(const ParamMap& p) {
   o.threshold_scale = p.GetString("threshold_scale");
   o.dynamic_class_ids = p.GetCocoClassIds("dynamic_classes");
   o.initial_pose_out_of_box = p.GetBool("initial_pose_out_of_box");
+  o.after_local_map_search = p.GetBool("after_local_map_search");
   o.p_init_box = p.GetDouble("p_init_box");
   o.p_init_free = p.GetDouble("p_init_free");
   o.delta = p.GetDouble("delta");
@@ -82,7 +83,8 @@ namespace dynref {
 void RegisterMgdParams(MethodRegistry& registry) {
   registry.AddParams(
       "mgd.probability",
-      {{Real("min_confidence", 0, 1), Choice("threshold_scale", {"detector", "raw"}), Names("dynamic_classes"), Flag("initial_pose_out_of_box"), Real("p_init_box", 0, 1),
+      {{Real("min_confidence", 0, 1), Choice("threshold_scale", {"detector", "raw"}), Names("dynamic_classes"), Flag("initial_pose_out_of_box"), Flag("after_local_map_search"),
+        Real("p_init_box", 0, 1),
         Real("p_init_free", 0, 1), Real("delta", 0, 1), RealAbove("match_radius_px", 0, 1000), Flag("use_ls"),
         Flag("use_pro"), Flag("use_mf"), RealAbove("d_th_ls_px", 0, 1000), RealAbove("theta_th_ls_rad", 0, 3.2),
         Real("a_ls", 0, 1), Choice("angle_form", {"angle_to_mean", "literal_arctan"}), Real("min_velocity_px", 0, 1000),

@@ -3,7 +3,8 @@
 // shared MGD state):
 //   mgd.boxes         kBeforeInitialPose  Flag_d per feature and line sample (Sec. 3.3); initial
 //                                         pose from out-of-box features (spec E10); first frame: P_init
-//   mgd.probability   kAfterInitialPose   inheritance, P_LS, P_mf, cached P_pro, fusion,
+//   mgd.probability   kBeforeFinalPose    inheritance, P_LS, P_mf, cached P_pro, fusion,
+//                     (after the local-map search; after_local_map_search: false = kAfterInitialPose)
 //                                         smoothing, diffusion, suppression, weights (Sec. 3.4-3.6),
 //                                         for points and line samples (step 11)
 //   mgd.reprojection  kOnMapUpdate        P_pro of the new keyframe's map points over 1st + 2nd

@@ -1,5 +1,6 @@
-// mgd.probability (kAfterInitialPose): seed 000 Sec. 3.4-3.6, spec steps 7-13 for points and
-// step 11 for line samples (line_samples.h; they share the diffusion with the points).
+// mgd.probability (kBeforeFinalPose, i.e. after the local-map search; kAfterInitialPose with
+// after_local_map_search: false): seed 000 Sec. 3.4-3.6, spec steps 7-13 for points and step 11
+// for line samples (line_samples.h; they share the diffusion with the points).
 // Per non-excluded feature: inherited P_prev (previous-frame feature, else its map point, else
 // P_init by Flag_d), the cues P_LS (short-term velocity deviation from the out-of-box mean flow),
 // P_pro (cached per map point by mgd.reprojection) and P_mf (distance to the epipolar line of F

@@ -38,7 +38,8 @@ class ProbabilityStage : public Stage {
  public:
   ProbabilityStage(const MgdOptions& o, std::shared_ptr<MgdState> state);
   std::string name() const override { return "mgd.probability"; }
-  Hook hook() const override { return Hook::kAfterInitialPose; }
+  // After the local-map search (paper Sec. 3.4, issue 38), or after the initial pose.
+  Hook hook() const override { return o_.after_local_map_search ? Hook::kBeforeFinalPose : Hook::kAfterInitialPose; }
   void Run(StageContext& ctx) override;
 
  private:
