@@ -318,7 +318,11 @@ std::vector<std::string> RenderRunOverlays(const std::string& run_dir, int64_t f
     if (!options.montage_path.empty()) tiles.push_back(std::move(c));
   }
   // All frames rendered: the montage (atomic on its own), then the frames into out_dir.
-  if (!options.montage_path.empty()) Montage(tiles, options.montage_columns).WritePng(options.montage_path);
+  if (!options.montage_path.empty()) {  // its folder may be out_dir itself, not made yet
+    const std::string parent = std::filesystem::path(options.montage_path).parent_path().string();
+    if (!parent.empty()) EnsureDirectory(parent);
+    Montage(tiles, options.montage_columns).WritePng(options.montage_path);
+  }
   EnsureDirectory(out_dir);
   std::vector<std::string> written;
   for (const std::string& name : names) {

@@ -111,6 +111,11 @@ TEST_CASE("dynref overlay CLI writes PNGs and rejects a bad frame range", "[cli]
   CHECK(ok.exit_code == 0);
   CHECK(std::ifstream(run.run + "/overlays/overlay_000001.png").good());
   CHECK(std::ifstream(dir + "/m.png").good());
+  // A montage inside the not yet existing --out folder (it used to fail: "cannot open ... for writing").
+  CHECK(test::RunDynref("overlay '" + run.run + "' --frames 0-1 --out '" + dir + "/new' --montage '" + dir +
+                        "/new/m.png'").exit_code == 0);
+  CHECK(std::ifstream(dir + "/new/m.png").good());
+  CHECK(std::ifstream(dir + "/new/overlay_000000.png").good());
   CHECK(test::RunDynref("overlay '" + run.run + "' --frames 5-2").exit_code == 2);
   CHECK(test::RunDynref("overlay '" + run.run + "' --frames 7-9").exit_code == 2);
 }
