@@ -8,8 +8,9 @@
 //           keyframe), bad keyframes skipped.
 // Matching: SearchByBoW when backbone.bow_matching is true, else brute force (matcher.h) as before.
 // Trace (FrameCount, stage track.reloc): candidates; per tried candidate candidate_kf,
-// candidate_matches, candidate_pnp_inliers and candidate_inliers (-1 = not reached; relocalise.cpp);
-// with bow also bow_sharing (keyframes sharing a word), bow_scored and bow_best_group_score_e6 (best group score x 1e6, rounded).
+// candidate_matches, candidate_pnp_inliers and candidate_inliers (-1 = not reached;
+// relocalise.cpp); with bow also bow_sharing (keyframes sharing a word), bow_scored and
+// bow_best_group_score_e6 (best group score x 1e6, rounded).
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -33,14 +33,19 @@ std::map<int, MaskVote> VoteMasks(const std::vector<int>& instance_of, const std
   return votes;
 }
 
+VoteGeometry::VoteGeometry(const Eigen::Matrix3d& K, const Eigen::Matrix3d& R, const Eigen::Vector3d& t)
+    : still_(t.isZero(0)),
+      M_(still_ ? Eigen::Matrix3d(K * R * K.inverse()) : geometry::FundamentalFromPose(K, R, t)) {}
+
+double VoteGeometry::Distance(const Eigen::Vector2d& p_prev, const Eigen::Vector2d& p_cur) const {
+  if (still_) return (p_cur - (M_ * p_prev.homogeneous()).hnormalized()).norm();  // the limit point
+  const double d = geometry::EpipolarDistance(M_, p_prev, p_cur);
+  return std::isinf(d) ? std::numeric_limits<double>::quiet_NaN() : d;
+}
+
 double VoteDistance(const Eigen::Matrix3d& K, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
                     const Eigen::Vector2d& p_prev, const Eigen::Vector2d& p_cur) {
-  if (t.isZero(0)) {  // no epipolar geometry: the limit point of the line
-    const Eigen::Vector3d h = K * R * K.inverse() * p_prev.homogeneous();
-    return (p_cur - h.hnormalized()).norm();
-  }
-  const double d = geometry::EpipolarDistance(geometry::FundamentalFromPose(K, R, t), p_prev, p_cur);
-  return std::isinf(d) ? std::numeric_limits<double>::quiet_NaN() : d;
+  return VoteGeometry(K, R, t).Distance(p_prev, p_cur);
 }
 
 }  // namespace dynref::epi

@@ -32,7 +32,18 @@ std::map<int, MaskVote> VoteMasks(const std::vector<int>& instance_of, const std
 // (R, t) = T_cur_prev. With t = 0 F vanishes and has no line; as t -> 0 the line passes through
 // H p_prev, H = K R K^-1 (rotation-only homography), so the distance is |p_cur - H p_prev| there
 // (issue 38: +inf made every in-mask keypoint of a still camera a violation). A point at the
-// epipole (zero line, t != 0) gives no evidence: NaN.
+// epipole (zero line, t != 0) gives no evidence: NaN. F or H is built once per frame.
+class VoteGeometry {
+ public:
+  VoteGeometry(const Eigen::Matrix3d& K, const Eigen::Matrix3d& R, const Eigen::Vector3d& t);
+  double Distance(const Eigen::Vector2d& p_prev, const Eigen::Vector2d& p_cur) const;
+
+ private:
+  bool still_;        // t = 0: H instead of F
+  Eigen::Matrix3d M_; // F, or H when still_
+};
+
+// VoteGeometry(K, R, t).Distance(p_prev, p_cur), for one pair.
 double VoteDistance(const Eigen::Matrix3d& K, const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
                     const Eigen::Vector2d& p_prev, const Eigen::Vector2d& p_cur);
 

@@ -5,7 +5,7 @@
 //      depth in both frames (RGB-D rigid RANSAC, geometry/rigid_ransac: "estimated assuming all
 //      points static"); Eq. (12) F = K^-T [t]x R K^-1 (geometry::FundamentalFromPose).
 //   c. Eq. (14): D = |A u + B v + C| / sqrt(A^2 + B^2) of every tracked in-mask keypoint, l = F p_(k-1)
-//      (mask_vote.h VoteDistance; t = 0: the rotation-only limit |p_k - K R K^-1 p_(k-1)|).
+//      (mask_vote.h VoteGeometry; t = 0: the rotation-only limit |p_k - K R K^-1 p_(k-1)|).
 //   d. Each mask is dynamic when > 60 % of its matched keypoints have D > eps (mask_vote.h).
 //   e. Keypoints of dynamic masks are excluded (matched or not); the rest are the static set.
 // Without a previous frame or a pose (too few static pairs) every mask is dynamic (E8).
@@ -120,10 +120,11 @@ EpiVotePose EpiVoteEstimatePose(const Camera& cam, const Frame& f, const Frame& 
     out.R = pose.R, out.t = pose.t;
     Eigen::Matrix3d K;
     K << cam.fx, 0, cam.cx, 0, cam.fy, cam.cy, 0, 0, 1;
+    const VoteGeometry geometry(K, pose.R, pose.t);
     // c. every tracked in-mask keypoint (pruning concerns the pose only, as in sgdo).
     for (size_t c = 0; c < pairs.size(); ++c) {
       if (instance_of[c] == 0 || !pairs[c].tracked) continue;
-      (*distance)[c] = VoteDistance(K, pose.R, pose.t, {prev_un[c].x, prev_un[c].y}, {cur_un[c].x, cur_un[c].y});
+      (*distance)[c] = geometry.Distance({prev_un[c].x, prev_un[c].y}, {cur_un[c].x, cur_un[c].y});
     }
   }
   return out;
