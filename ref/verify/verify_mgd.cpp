@@ -189,7 +189,7 @@ class MgdVerifier final : public Verifier {
       if (!ParseNode(r, &n)) continue;
       const int sample = n.line ? n.sample : -1;
       // mgd.boxes weight carriers of the initial pose are not the initialisation frame's P_init.
-      const bool carrier = r.stage == "mgd.boxes" && Input(r, "initial_pose");
+      const bool carrier = r.stage == "mgd.boxes" && (Input(r, "initial_pose") || Input(r, "lost"));
       fi.recs[{n.line ? 1 : 0, n.index, sample, carrier ? "mgd.boxes.carrier" : r.stage}] = i;
     }
     return fi;
@@ -224,9 +224,23 @@ class MgdVerifier final : public Verifier {
     return in_box != 0 ? Need(c, params_.p_init_box, "p_init_box") : Need(c, params_.p_init_free, "p_init_free");
   }
 
+  // ---- mgd.boxes on a lost frame: an in-box feature's box-prior weight for relocalisation ----
+  void VerifyLostCarrier(const Record& r, Check& c) const {
+    const double tau = Need(c, params_.tau, "tau_dyn");
+    const double p = Need(c, params_.p_init_box, "p_init_box");
+    const double in_box = c.Need(r, "in_box");
+    const double w = c.Need(r, "weight");
+    if (!c.ok()) return;
+    c.Near("in_box", 1, in_box, 0);
+    c.Near("weight", p > tau ? 0.0 : 1.0 - p, w, kTol);
+    c.Near("before", 0, r.before, 0);
+    c.Near("after", 0, r.after, 0);
+  }
+
   // ---- mgd.boxes: the initialisation frame's P_init per feature / line sample, the line's weight ----
   void VerifyBoxes(const TraceModel& t, RecordRef at, const Node& n, Check& c) const {
     const Record& r = t.At(at);
+    if (Input(r, "lost")) return VerifyLostCarrier(r, c);
     if (Input(r, "initial_pose")) {  // weight carrier: weight 0 for the initial pose (spec E10), p = 0
       std::string out_of_box;
       t.StageParam("mgd.probability", "initial_pose_out_of_box", &out_of_box);

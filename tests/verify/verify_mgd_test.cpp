@@ -190,6 +190,9 @@ std::string MgdWriteTrace(const std::string& dir, const MgdPlant& plant) {
   prob("mgd.line", EntityKind::kLineSample, "l1.0", {{"map_line", -1}, {"weight", lw}}, line_before, line_p);
   decision("mgd.probability", EntityKind::kLineSample, "l1.0", lw > 0, lw > 0 ? "max_p<=tau_dyn" : "max_p>tau_dyn");
   for (int i = 0; i < 3; ++i) w.Observation(i, i == 2 ? 5 : -1, u1[i], v1[i], z1[i], 0, 0);
+  // ---- frame 2: tracking was lost; the in-box feature 1 keeps its box prior 1 - 0.5 ----
+  w.BeginFrame(2, 0.066);
+  prob("mgd.boxes", EntityKind::kFeature, "f2.1", {{"lost", 1}, {"in_box", 1}, {"weight", 0.5}}, 0, 0);
   w.Close("complete");
   return path;
 }
@@ -232,7 +235,7 @@ TEST_CASE("verify mgd: a changed `after` is a mismatch naming the record", "[ver
     const char* frame;
   };
   for (const Case& k : {Case{"mgd.diffuse", "f1.1", "1"}, Case{"mgd.P_mf", "f1.0", "1"}, Case{"mgd.P_LS", "f1.2", "1"},
-                        Case{"mgd.smooth", "l1.0", "1"}, Case{"mgd.boxes", "f0.1", "0"}, Case{"mgd.inherit", "f1.0", "1"},
+                        Case{"mgd.smooth", "l1.0", "1"}, Case{"mgd.boxes", "f0.1", "0"}, Case{"mgd.boxes", "f2.1", "2"}, Case{"mgd.inherit", "f1.0", "1"},
                         Case{"mgd.reprojection", "mp5", "0"}, Case{"mgd.map_point", "mp5", "1"}}) {
     MgdPlant p;
     p.stage = k.stage, p.entity = k.entity, p.after_delta = 0.01;
@@ -262,6 +265,15 @@ TEST_CASE("verify mgd: a removed input makes the record unverifiable", "[verify]
     CHECK(Examples(report).find(std::string("unverifiable frame 1 prob ") + k.stage + " " + k.entity) != std::string::npos);
     CHECK(Examples(report).find(k.input) != std::string::npos);
   }
+}
+
+TEST_CASE("verify mgd: a lost frame's box-prior weight must be 1 - p_init_box", "[verify]") {
+  MgdPlant p;
+  p.stage = "mgd.boxes", p.entity = "f2.1", p.drop_input = "weight";
+  const auto report = MgdVerify(MgdWriteTrace(dynref::test::ScratchDir("verify_mgd_lost"), p));
+  INFO(Examples(report));
+  CHECK(report.stages.at("mgd.boxes").unverifiable == 1);
+  CHECK(Examples(report).find("unverifiable frame 2 prob mgd.boxes f2.1") != std::string::npos);
 }
 
 TEST_CASE("verify mgd: a decision against tau_dyn is a mismatch", "[verify]") {
