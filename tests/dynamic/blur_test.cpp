@@ -168,6 +168,29 @@ TEST_CASE("blur: human value range and 3-sigma screen, hand-computed") {
   }
 }
 
+// Issue 38: the screen at the paper's own 3 sigma. Box rows: 49 at 1.9 m, 49 at 2.1 m, one at
+// 2.30 m, one at 2.34 m: mu = 2.0064, sigma = 0.10870 (python3), so 2.30 m is 2.70 sigma from mu
+// (kept) and 2.34 m is 3.07 sigma (cut); O_h = [1.5, 2.5] holds all four. A screen at 2.5 sigma
+// or at 3.5 sigma (planted: both seen failing) moves 100 pixels.
+TEST_CASE("blur: the 3-sigma screen keeps a row at 2.70 sigma and cuts one at 3.07 sigma") {
+  cv::Mat depth(480, 640, CV_32F, cv::Scalar(4.0f));
+  const cv::Rect box(200, 100, 100, 100);
+  depth(cv::Rect(200, 100, 100, 49)).setTo(1.9f);
+  depth(cv::Rect(200, 149, 100, 49)).setTo(2.1f);
+  depth(cv::Rect(200, 198, 100, 1)).setTo(2.30f);
+  depth(cv::Rect(200, 199, 100, 1)).setTo(2.34f);
+  DepthFusionOptions o;  // sigma_mult 3 (paper)
+  o.alpha_m = 0.5;
+  const std::vector<cv::Point> samples = {{210, 110}, {210, 160}};  // 1.9 and 2.1: g_h = 2.0
+  cv::Mat fused = cv::Mat::zeros(480, 640, CV_8U);
+  const HumanValueRange h = FuseBoxDepth(depth, box, samples, o, &fused);
+  CHECK(h.mu_box == Approx(2.0064).epsilon(1e-6));
+  CHECK(h.sigma_box == Approx(0.10869701007847464).epsilon(1e-5));
+  CHECK(h.fused_px == 9900);
+  CHECK(fused.at<uint8_t>(198, 250) == 255);
+  CHECK(fused.at<uint8_t>(199, 250) == 0);
+}
+
 TEST_CASE("blur: k-d tree probability of a planted cluster, hand-computed") {
   // Keypoint 0 static at the origin; 1 and 2 in the mask at 10 px and 20 px (outside D = 20,
   // strict); 3 static at 5 px; 4 far away, alone.

@@ -20,9 +20,17 @@ TEST_CASE("mgd formulas: sigmoid, clamped logit and log-odds fusion") {
   c.has_ls = c.has_pro = c.has_mf = true;
   c.p_ls = 0.9, c.p_pro = 0.2, c.p_mf = 0.5;
   CHECK(Fuse(c, o) == Approx(0.5803893920284022).epsilon(1e-12));
-  // A cue that is not computable contributes logit 0: the same value without P_mf.
+  // A cue that is not computable contributes logit 0: the same value without P_mf, whatever P_mf
+  // holds (0.95 here: a Fuse that ignored has_* would give 0.7137; planted and seen failing).
   c.has_mf = false;
+  c.p_mf = 0.95;
   CHECK(Fuse(c, o) == Approx(0.5803893920284022).epsilon(1e-12));
+  Cues no_ls = c;  // only P_pro computable: sig(0.4 logit 0.2), P_LS 0.9 and P_mf 0.95 ignored
+  no_ls.has_ls = false;
+  CHECK(Fuse(no_ls, o) == Approx(0.36481689431254416).epsilon(1e-12));
+  Cues no_pro = c;  // only P_LS computable
+  no_pro.has_pro = false;
+  CHECK(Fuse(no_pro, o) == Approx(0.7065921139768864).epsilon(1e-12));
   // Only P_pro switched off (ablation): S = sig(0.4 logit 0.9).
   MgdOptions only_ls = o;
   only_ls.use_pro = only_ls.use_mf = false;

@@ -2,7 +2,9 @@
 // paper's values beside ours, and bad arguments exit 2 before any work. Moved here from
 // tests/dynamic (issue 33: tests beside what they test); the TEST_CASE names are unchanged.
 #include <catch2/catch.hpp>
+#include <cstdio>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -70,6 +72,21 @@ TEST_CASE("blur reproduce: blur-table3 end to end on 30 frames, two seeds, paper
   CHECK(md.find("against the true person pixels") != std::string::npos);
   CHECK(md.find("| sitting_static | 60 |") != std::string::npos);  // truth: 2 seeds x 30 frames
   CHECK(md.find("n/a") == std::string::npos);                      // every variant has an ATE
+  // Issue 38: our own numbers, not only the paper's rows: the per-seed ATE of "Ours" equals
+  // `dynref eval` of each seed's run against its ground truth (4 decimals, as printed).
+  std::string ours = "| sitting_static | Ours |";
+  for (int seed : {1, 2}) {
+    const std::string w = dir + "/w/seed" + std::to_string(seed);
+    const test::CommandResult e = test::RunDynref("eval --gt " + w + "/seq/sitting_static/groundtruth.txt --est " + w +
+                                                  "/runs/sitting_static/blur/trajectory.txt --delta-unit f --json " + w + "/eval.json");
+    REQUIRE(e.exit_code == 0);
+    const double rmse = nlohmann::json::parse(test::ReadFileBytes(w + "/eval.json"))["ate"]["stats"]["rmse"].get<double>();
+    char cell[32];
+    std::snprintf(cell, sizeof(cell), " %.4f", rmse);
+    ours += cell;
+  }
+  INFO(ours);
+  CHECK(md.find(ours + " |") != std::string::npos);
 }
 
 TEST_CASE("epi reproduce: epi-table2 end to end on 10 frames, paper rows beside ours", "[cli][slow]") {
