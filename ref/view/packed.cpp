@@ -13,71 +13,63 @@
 namespace dynref::view {
 namespace {
 
-// basE91's alphabet with '-' for '"' (README.md "Size"); the page's decoder (site/view.js) has the same.
-constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789!#$%&()*+,./:;<=>?@[]^_`{|}~-";
-
-std::string Base91(const std::string& bytes) {
-  std::string out;
-  out.reserve(bytes.size() * 5 / 4 + 2);
-  uint32_t b = 0;
-  int n = 0;
-  for (char c : bytes) {
-    b |= static_cast<uint32_t>(static_cast<unsigned char>(c)) << n;
-    n += 8;
-    if (n > 13) {
-      uint32_t v = b & 8191;
-      if (v > 88) {
-        b >>= 13, n -= 13;
-      } else {
-        v = b & 16383, b >>= 14, n -= 14;
-      }
-      out += kAlphabet[v % 91], out += kAlphabet[v / 91];
-    }
+// The JavaScript escape of byte c inside a "..." literal, or nullptr when it stands for itself.
+// NUL is written \x00 (a \0 before a digit would read as an octal escape).
+const char* Escape(unsigned char c) {
+  switch (c) {
+    case '"': return "\\\"";
+    case '\\': return "\\\\";
+    case '\n': return "\\n";
+    case '\r': return "\\r";
+    case '\0': return "\\x00";
+    default: return nullptr;
   }
-  if (n > 0) {
-    out += kAlphabet[b % 91];
-    if (n > 7 || b > 90) out += kAlphabet[b / 91];
+}
+
+std::string Latin1Literal(const std::string& bytes) {
+  std::string out;
+  out.reserve(bytes.size() + bytes.size() / 32 + 8);
+  for (char c : bytes) {
+    const char* e = Escape(static_cast<unsigned char>(c));
+    if (e != nullptr) out += e;
+    else out += c;
   }
   return out;
 }
 
-std::string Unbase91(const std::string& text) {
+std::string Latin1Bytes(const std::string& text) {
   std::string out;
-  uint32_t b = 0;
-  int n = 0, v = -1;
-  for (char c : text) {
-    const char* p = c == '\0' ? nullptr : std::strchr(kAlphabet, c);
-    if (p == nullptr) throw InputError("base91", "invalid character");
-    const int d = static_cast<int>(p - kAlphabet);
-    if (v < 0) {
-      v = d;
+  out.reserve(text.size());
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '"' || c == '\n' || c == '\r' || c == '\0') throw InputError("view data", "unescaped quote or line end");
+    if (c != '\\') {
+      out += c;
       continue;
     }
-    v += d * 91;
-    b |= static_cast<uint32_t>(v) << n;
-    n += (v & 8191) > 88 ? 13 : 14;
-    do out += static_cast<char>(b & 0xff), b >>= 8, n -= 8;
-    while (n > 7);
-    v = -1;
+    const std::string rest = text.substr(i + 1, 3);
+    if (rest.rfind("x00", 0) == 0) out += '\0', i += 3;
+    else if (!rest.empty() && (rest[0] == '"' || rest[0] == '\\')) out += rest[0], ++i;
+    else if (!rest.empty() && (rest[0] == 'n' || rest[0] == 'r')) out += rest[0] == 'n' ? '\n' : '\r', ++i;
+    else throw InputError("view data", "unknown escape");
   }
-  if (v >= 0) out += static_cast<char>((b | static_cast<uint32_t>(v) << n) & 0xff);
   return out;
 }
 
 }  // namespace
 
-std::string DeflateBase91(const std::string& text) {
+std::string DeflateLatin1(const std::string& text) {
   uLongf size = compressBound(static_cast<uLong>(text.size()));
   std::string out(size, '\0');
   if (compress2(reinterpret_cast<Bytef*>(out.data()), &size, reinterpret_cast<const Bytef*>(text.data()),
                 static_cast<uLong>(text.size()), 9) != Z_OK)
     throw std::runtime_error("zlib compress2 failed");
   out.resize(size);
-  return Base91(out);
+  return Latin1Literal(out);
 }
 
-std::string InflateBase91(const std::string& b91) {
-  const std::string in = Unbase91(b91);
+std::string InflateLatin1(const std::string& literal) {
+  const std::string in = Latin1Bytes(literal);
   z_stream z{};
   if (inflateInit(&z) != Z_OK) throw std::runtime_error("zlib inflateInit failed");
   z.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(in.data()));
@@ -92,7 +84,7 @@ std::string InflateBase91(const std::string& b91) {
     out.append(buf, sizeof(buf) - z.avail_out);
   }
   inflateEnd(&z);
-  if (rc != Z_STREAM_END) throw InputError("base91", "not a complete zlib stream");
+  if (rc != Z_STREAM_END) throw InputError("view data", "not a complete zlib stream");
   return out;
 }
 

@@ -1,8 +1,9 @@
 // Compact data files of `dynref view` (README.md "Size"): a frame's records as columns (one per
 // record schema and field, file order kept by a schema-id column), numbers rounded to the
 // significant digits the page shows, repeated columns and id-like text columns encoded compactly
-// (PackColumns), zlib-compressed and basE91-encoded into a <script> string (the page inflates it
-// with the browser's DecompressionStream: no fetch(), works from file://).
+// (PackColumns), zlib-compressed into a <script> string of one character per byte (the page loads
+// the file as windows-1252 and inflates the bytes with the browser's DecompressionStream: no
+// fetch(), works from file://).
 #pragma once
 #include <string>
 
@@ -10,11 +11,13 @@
 
 namespace dynref::view {
 
-// zlib (RFC 1950) stream of `text` at level 9, as basE91 text (Joachim Henke's basE91 with '-'
-// in place of '"', so the string needs no escape in JavaScript: ~23 % overhead, base64's 33 %).
-std::string DeflateBase91(const std::string& text);
-// Inverse of DeflateBase91 (tests); InputError on a corrupt string.
-std::string InflateBase91(const std::string& b91);
+// zlib (RFC 1950) stream of `text` at level 9 as the body of a JavaScript "..." literal, one
+// character per byte: a file holding it is loaded as windows-1252 (<script charset>; every byte is
+// one code point there and the page maps it back), `"`, `\`, LF and CR written as JavaScript
+// escapes and NUL as \x00: ~2 % overhead against basE91's 23 % (README.md "Size").
+std::string DeflateLatin1(const std::string& text);
+// Inverse of DeflateLatin1 (tests); InputError on a corrupt string.
+std::string InflateLatin1(const std::string& literal);
 // A frame's columns {schema id: [column...]} (site_data.cpp FrameColumns) with each column that
 // equals an earlier one (in the object's key order) replaced by {"=": [schema id, index]}, and each
 // remaining all-text column whose values share one text between their integers ("f12.3",

@@ -82,11 +82,13 @@ void LandmarkLinks(const trace::FlatRecord& r, int64_t frame, std::vector<std::s
   }
 }
 
-// `call(a, b, ...);` with each argument as JSON.
-std::string Script(const std::string& call, const json& args) {
+// `call(a, b, ..., "packed");` with each argument as ASCII JSON and `packed` the zlib stream of
+// `data` as a one-character-per-byte literal (packed.h DeflateLatin1; the page loads these files
+// as windows-1252).
+std::string PackedScript(const std::string& call, const json& args, const json& data) {
   std::string text = call + "(";
-  for (size_t i = 0; i < args.size(); ++i) text += (i ? "," : "") + args[i].dump();
-  return text + ");\n";
+  for (const json& a : args) text += a.dump(-1, ' ', true) + ",";
+  return text + "\"" + DeflateLatin1(data.dump()) + "\");\n";
 }
 
 // Trajectory against ground truth (synthetic or TUM folder): aligned positions and ATE per pose.
@@ -150,7 +152,7 @@ uint64_t WriteFollowLinks(trace::TraceReader& reader, int k, const std::string& 
     flat.push_back(l.a), flat.push_back(l.b), flat.push_back(it->second);
   }
   const json data = {{"via", via}, {"links", flat}, {"masks", links.instance_masks}};
-  const std::string text = Script("VIEW.linksZ", json::array({k, DeflateBase91(data.dump())}));
+  const std::string text = PackedScript("VIEW.linksZ", json::array({k}), data);
   AtomicWriteFile(dir + "/links.js", text);
   return text.size();
 }
@@ -196,8 +198,7 @@ RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_d
     auto img = image_for_frame.find(frame);
     const json head = {{"frame", frame}, {"stamp", Number(stamp)},
                        {"image", img == image_for_frame.end() ? "" : img->second}};
-    const std::string text =
-        Script("VIEW.frameZ", json::array({k, frame, head, DeflateBase91(columns.Json().dump())}));
+    const std::string text = PackedScript("VIEW.frameZ", json::array({k, frame, head}), columns.Json());
     AtomicWriteFile(dir + "/f" + std::to_string(frame) + ".js", text);
     site.data_bytes += text.size();
     site.frames.push_back(frame);
@@ -220,7 +221,7 @@ RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_d
                         {"digits", options.digits},    {"image_scale", options.image_scale},
                         {"trajectory", TrajectoryData(run_dir, run_json)},
                         {"divergence", divergence_json.empty() ? json() : json::parse(divergence_json)}};
-  const std::string text = Script("VIEW.summary", json::array({k, summary}));
+  const std::string text = PackedScript("VIEW.summaryZ", json::array({k}), summary);
   AtomicWriteFile(dir + "/summary.js", text);
   site.data_bytes += text.size();
   return site;

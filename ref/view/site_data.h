@@ -1,5 +1,5 @@
 // Data files of `dynref view` (README.md): one JavaScript file per run summary and per frame,
-// each a call `VIEW.summary(run, {...})` / `VIEW.frameZ(run, frame, head, packed)` (packed.h), so that the page works
+// each a call `VIEW.summaryZ(run, packed)` / `VIEW.frameZ(run, frame, head, packed)` (packed.h), so that the page works
 // from file:// (browsers refuse fetch() of local JSON, not <script src>). Records are the canonical
 // flat view of ref/trace (the rows `dynref trace feature` prints), stored once per frame with a
 // per-run table of record schemas (type, stage, kind, field names); numbers rounded to

@@ -1,5 +1,6 @@
-// The data format of `dynref view` (ref/view/packed.h): basE91 of zlib round-trips any bytes, and
-// packed columns (references, templates of integers) give back exactly the plain columns.
+// The data format of `dynref view` (ref/view/packed.h): the one-character-per-byte literal of a
+// zlib stream round-trips any bytes and is a valid JavaScript string body, and packed columns
+// (references, templates of integers) give back exactly the plain columns.
 #include "view/packed.h"
 
 #include <catch2/catch.hpp>
@@ -7,23 +8,48 @@
 
 #include "core/error.h"
 
-using dynref::view::DeflateBase91;
-using dynref::view::InflateBase91;
+using dynref::view::DeflateLatin1;
+using dynref::view::InflateLatin1;
 using dynref::view::PackColumns;
 using dynref::view::UnpackColumns;
 using nlohmann::json;
 
-TEST_CASE("view data: basE91 of zlib round-trips every length and byte, and needs no JavaScript escape", "[view]") {
+namespace {
+
+// True when `text` is a JavaScript "..." literal body: no line end or NUL, every quote and
+// backslash escaped, and only the escapes DeflateLatin1 writes.
+bool ValidLiteral(const std::string& text) {
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '"' || c == '\n' || c == '\r' || c == '\0') return false;
+    if (c != '\\') continue;
+    if (text.compare(i + 1, 3, "x00") == 0) i += 3;
+    else if (i + 1 < text.size() && std::string("\"\\nr").find(text[i + 1]) != std::string::npos) ++i;
+    else return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+TEST_CASE("view data: the zlib literal round-trips every length and byte, and is a valid JavaScript string", "[view]") {
   for (size_t n : {0, 1, 2, 3, 13, 14, 100, 4097}) {
     std::string bytes;
     for (size_t i = 0; i < n; ++i) bytes += static_cast<char>((i * 131 + n * 7) % 256);
-    const std::string text = DeflateBase91(bytes);
-    CHECK(text.find('"') == std::string::npos);
-    CHECK(text.find('\\') == std::string::npos);
-    CHECK(InflateBase91(text) == bytes);
+    const std::string text = DeflateLatin1(bytes);
+    CHECK(ValidLiteral(text));
+    CHECK(InflateLatin1(text) == bytes);
   }
-  CHECK_THROWS_AS(InflateBase91("ab\"c"), dynref::InputError);
-  CHECK_THROWS_AS(InflateBase91("abcd"), dynref::InputError);  // not a zlib stream
+  // Every byte value, the escaped ones included, in the compressed stream of random-looking text.
+  std::string noise;
+  for (uint32_t i = 0, x = 1; i < 20000; ++i) x = x * 1103515245u + 12345u, noise += static_cast<char>(x >> 23);
+  const std::string text = DeflateLatin1(noise);
+  for (const char* e : {"\\\"", "\\\\", "\\n", "\\r", "\\x00"}) CHECK(text.find(e) != std::string::npos);
+  CHECK(ValidLiteral(text));
+  CHECK(InflateLatin1(text) == noise);
+  CHECK_THROWS_AS(InflateLatin1("ab\"c"), dynref::InputError);   // an unescaped quote
+  CHECK_THROWS_AS(InflateLatin1("ab\\qc"), dynref::InputError);  // an escape it never writes
+  CHECK_THROWS_AS(InflateLatin1("abcd"), dynref::InputError);     // not a zlib stream
 }
 
 TEST_CASE("view data: packed columns restore the plain ones, repeated columns stored once", "[view]") {

@@ -203,10 +203,10 @@ TEST_CASE("view end to end: a 30-frame mgd run, a click on a feature opens its h
   for (const auto& e : fs::recursive_directory_iterator(dir + "/site"))
     if (e.is_regular_file()) (e.path().extension() == ".jpg" ? images : data) += e.file_size();
   INFO("data " << data << " B, images " << images << " B for 30 frames");
-  // A regression bound at today's size with ~12 % margin (ref/view/README.md "Size": 179 KB of
-  // data and 23.8 KB of overlay per frame measured on this run; 247 KB of data before the packed
-  // columns and basE91). The issue's ~50 MB for 300 frames is not reached (70 MiB measured).
-  CHECK(data / 30 < 200 * 1024);
+  // A regression bound at today's size with ~12 % margin (ref/view/README.md "Size": 152 KB of
+  // data and 24 KB of overlay per frame measured on this run; 185 KB with basE91, 247 KB before
+  // the packed columns). The issue's ~50 MB for 300 frames is not reached (62.4 MiB measured).
+  CHECK(data / 30 < 170 * 1024);
   CHECK(images / 30 < 27 * 1024);
   // Screenshot of the page with that history open (kept beside the test's outputs).
   const std::string url = "file://" + fs::absolute(dir + "/site").string() + "/index.html?frame=10&follow=1&entity=" + clicked;

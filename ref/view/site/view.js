@@ -1,10 +1,10 @@
 // dynref view: browse runs written by `dynref view RUN... --out DIR` (ref/view/README.md).
-// Data arrive as <script> files calling VIEW.runs / VIEW.summary / VIEW.frame, so the page
+// Data arrive as <script> files calling VIEW.runs / VIEW.summaryZ / VIEW.frameZ, so the page
 // works from file:// without a server. Records are the canonical flat view of ref/trace: the
 // history of an entity lists the same records as `dynref trace feature`.
 'use strict';
 
-const S = { runs: [], run: 0, summary: {}, packed: {}, links: {}, graphs: {}, frameIndex: 0, entity: '', scripts: {},
+const S = { runs: [], run: 0, summary: {}, summaries: {}, packed: {}, links: {}, graphs: {}, frameIndex: 0, entity: '', scripts: {},
   cache: new Map(), showToken: 0, shapes: { features: [], lines: [] } };
 const CACHE_FRAMES = 24;  // decoded frames kept (the page stays small on long runs)
 const CARRIER = (stage) => stage === 'structure' || stage.startsWith('match.');
@@ -14,16 +14,18 @@ const $ = (id) => document.getElementById(id);
 
 const VIEW = {
   runs(list) { S.runs = list; start(); },
-  summary(k, s) { S.summary[k] = s; },
+  summaryZ(k, packed) { S.packed[`summary/${k}`] = packed; },
   frameZ(k, f, head, packed) { S.packed[`${k}/${f}`] = { head, packed }; },
   linksZ(k, packed) { S.links[k] = packed; },
 };
 
 // Adds <script src> once (`keep`) or each time (frame files: their data are dropped once decoded).
+// The data files are read as windows-1252: one character per byte of their packed strings.
 function loadScript(src, keep = true) {
   if (keep && S.scripts[src]) return S.scripts[src];
   const p = new Promise((resolve, reject) => {
     const el = document.createElement('script');
+    el.charset = 'windows-1252';
     el.src = src;
     el.onload = () => { if (!keep) el.remove(); resolve(); };
     el.onerror = () => reject(new Error('cannot load ' + src));
@@ -32,30 +34,37 @@ function loadScript(src, keep = true) {
   if (keep) S.scripts[src] = p;
   return p;
 }
-async function summaryOf(k) { await loadScript(`data/r${k}/summary.js`); return S.summary[k]; }
-
-// A packed data string (ref/view/packed.h: zlib, basE91 with '-' for '"') as JSON.
-const B91 = 'ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789!#$%&()*+,./:;<=>?@[]^_`{|}~-';
-const B91_VALUE = new Int16Array(128).fill(-1);
-for (let i = 0; i < B91.length; ++i) B91_VALUE[B91.charCodeAt(i)] = i;
-function unbase91(text) {
-  const bytes = new Uint8Array(Math.ceil(text.length * 14 / 16) + 1);
-  let b = 0, n = 0, v = -1, o = 0;
-  for (let i = 0; i < text.length; ++i) {
-    const d = B91_VALUE[text.charCodeAt(i)];
-    if (d < 0) throw new Error('invalid data character');
-    if (v < 0) { v = d; continue; }
-    v += d * 91;
-    b |= v << n;
-    n += (v & 8191) > 88 ? 13 : 14;
-    do { bytes[o++] = b & 255; b >>>= 8; n -= 8; } while (n > 7);
-    v = -1;
+function summaryOf(k) {
+  if (!S.summaries[k]) {
+    S.summaries[k] = (async () => {
+      await loadScript(`data/r${k}/summary.js`);
+      S.summary[k] = await inflate(S.packed[`summary/${k}`]);
+      delete S.packed[`summary/${k}`];
+      return S.summary[k];
+    })();
   }
-  if (v >= 0) bytes[o++] = (b | v << n) & 255;
-  return bytes.subarray(0, o);
+  return S.summaries[k];
 }
-async function inflate(b91) {
-  const stream = new Blob([unbase91(b91)]).stream().pipeThrough(new DecompressionStream('deflate'));
+
+// A packed data string (ref/view/packed.h DeflateLatin1: a zlib stream, one windows-1252
+// character per byte) as JSON. BYTE_OF maps each character back to its byte, from the same
+// decoder the browser read the file with.
+const BYTE_OF = new Int16Array(65536).fill(-1);
+{
+  const cp1252 = new TextDecoder('windows-1252');
+  for (let b = 0; b < 256; ++b) BYTE_OF[cp1252.decode(new Uint8Array([b])).charCodeAt(0)] = b;
+}
+function latin1Bytes(text) {
+  const bytes = new Uint8Array(text.length);
+  for (let i = 0; i < text.length; ++i) {
+    const b = BYTE_OF[text.charCodeAt(i)];
+    if (b < 0) throw new Error('invalid data character');
+    bytes[i] = b;
+  }
+  return bytes;
+}
+async function inflate(packed) {
+  const stream = new Blob([latin1Bytes(packed)]).stream().pipeThrough(new DecompressionStream('deflate'));
   return JSON.parse(await new Response(stream).text());
 }
 // Packed columns back to plain ones (packed.h PackColumns): templates {c, t, n} expanded, then
