@@ -1,5 +1,7 @@
-// Parameter specs of blur.mask and blur.probability (read_options.h).
+// Parameter specs of blur.mask, blur.probability and blur.densemap (read_options.h).
 #include "dynamic/blur/read_options.h"
+
+#include "dynamic/common/dense_map_module.h"
 
 namespace dynref {
 
@@ -14,6 +16,7 @@ void RegisterBlurParams(MethodRegistry& registry) {
   registry.AddParams("blur.probability", {{Flag("compute"), RealAbove("radius_px", 0, 1000), Real("c1", 0, 1000),
                                            Real("c2", 0, 1000), BelowHi(Real("theta", 0, 1))}});
   registry.AddRequirement("blur.probability", "blur.mask");
+  dynamic_common::RegisterDenseMapParams(registry, "blur.densemap", "blur.mask");
 }
 
 }  // namespace dynref

@@ -5,6 +5,8 @@
 // even window or border 0 passed here and failed at the stage's line (scripts/fuzz.sh configs).
 #include "dynamic/sgdo/read_options.h"
 
+#include "dynamic/common/dense_map_module.h"
+
 namespace dynref {
 
 void RegisterSgdoParams(MethodRegistry& registry) {
@@ -20,16 +22,7 @@ void RegisterSgdoParams(MethodRegistry& registry) {
         RealAbove("ransac_confidence", 0, 1), Integer("ransac_max_iterations", 1, 100000), Seed("ransac_seed")}});
   // eta: relative depth residual; lambda: the weight's slope (0 = constant weight).
   registry.AddParams("sgdo.depth", {{RealAbove("eta", 0, 10), Real("lambda", 0, 1e6), Flag("reject"), Flag("weight")}});
-  // Leaf sizes >= 1 mm (a voxel per pixel already below); the context margin's neighbour search
-  // degenerates to all pairs as it grows (1.5 m: > 120 s for 2 frames, issue 37): at most 0.2 m.
-  registry.AddParams(
-      "sgdo.densemap",
-      {{Real("keyframe_leaf_m", 0.001, 1), Real("global_leaf_m", 0.001, 1), Integer("filter_every_keyframes", 1, 100000),
-        Choice("filter_mode", {"full", "incremental"}), RealAbove("context_margin_m", 0, 0.2), Integer("sor_k", 1, 1000),
-        RealAbove("sor_std_mult", 0, 100), Real("min_depth_m", 0, 100), RealAbove("max_depth_m", 0, 100),
-        Integer("pixel_stride", 1, 64), Flag("colour_by_class"), Text("output"), Choice("ply_format", {"binary", "ascii"})},
-       {{"min_depth_m", "max_depth_m"}}});
-  registry.AddRequirement("sgdo.densemap", "sgdo.mask");
+  dynamic_common::RegisterDenseMapParams(registry, "sgdo.densemap", "sgdo.mask");
 }
 
 }  // namespace dynref

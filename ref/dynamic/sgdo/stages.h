@@ -6,15 +6,12 @@
 #include <memory>
 #include <string>
 
-#include "dense/dense_map.h"
-#include "io/ply.h"
 #include "dynamic/sgdo/coarse.h"
 #include "dynamic/sgdo/depth_consistency.h"
 #include "dynamic/sgdo/stage_common.h"
 #include "geometry/fundamental.h"
 #include "geometry/lk_pairs.h"
 #include "method/detection_tally.h"
-#include "method/map_module.h"
 
 namespace dynref::sgdo {
 
@@ -61,21 +58,5 @@ class DepthStage : public Stage {
   bool weight_ = true;   // (O), (S+G+O), (S+G+D+O)
 };
 
-// Map module: the dense static map of Sec. 3.6, written as PLY at the end of the run.
-class DenseMapModule : public MapModule {
- public:
-  DenseMapModule(const ParamMap& params, std::shared_ptr<Blackboard> board);
-  std::string name() const override { return "sgdo.densemap"; }
-  void OnKeyFrame(const MapModuleContext& ctx) override;
-  // Final filter + atomic PLY write into the run folder (nothing when no keyframe was added).
-  void Finish(const Map& map, RunEnd& end) override;
-
- private:
-  std::shared_ptr<Blackboard> board_;
-  dense::DenseMapOptions options_;
-  std::string output_;  // relative to the run folder, or absolute
-  PlyFormat format_ = PlyFormat::kBinaryLittleEndian;
-  std::unique_ptr<dense::DenseMap> map_;
-};
 
 }  // namespace dynref::sgdo

@@ -1,18 +1,28 @@
-// sgdo.densemap (map module, OnKeyFrame). seed 001, Sec. 3.6 / Fig. 5: on every new keyframe
-// the pixels with valid depth outside M are back-projected, voxelised (v_kf) and appended in
-// world coordinates; every N_map keyframes SOR + voxel grid (v_glob) run on the global cloud
-// (filter_mode full) or on the points added since the last filter with the map around them as
-// neighbours (filter_mode incremental, dense/dense_map.h: cost flat in map size, issue 18). The
-// map is written as PLY into the run folder by Finish at the end of the run; a failed write ends
-// the run with an error in run.json.
+// The keyframe dense static map as a map module; see dense_map_module.h.
+#include "dynamic/common/dense_map_module.h"
+
+#include <stdexcept>
 #include <utility>
 
-#include "io/ply.h"
-#include "dynamic/sgdo/stages.h"
+#include "core/error.h"
 
-namespace dynref::sgdo {
+namespace dynref::dynamic_common {
 
-DenseMapModule::DenseMapModule(const ParamMap& p, std::shared_ptr<Blackboard> board) : board_(std::move(board)) {
+// Leaf sizes >= 1 mm (a voxel per pixel already below); the context margin's neighbour search
+// degenerates to all pairs as it grows (1.5 m: > 120 s for 2 frames, issue 37): at most 0.2 m.
+void RegisterDenseMapParams(MethodRegistry& registry, const std::string& module, const std::string& mask_stage) {
+  registry.AddParams(
+      module,
+      {{Real("keyframe_leaf_m", 0.001, 1), Real("global_leaf_m", 0.001, 1), Integer("filter_every_keyframes", 1, 100000),
+        Choice("filter_mode", {"full", "incremental"}), RealAbove("context_margin_m", 0, 0.2), Integer("sor_k", 1, 1000),
+        RealAbove("sor_std_mult", 0, 100), Real("min_depth_m", 0, 100), RealAbove("max_depth_m", 0, 100),
+        Integer("pixel_stride", 1, 64), Flag("colour_by_class"), Text("output"), Choice("ply_format", {"binary", "ascii"})},
+       {{"min_depth_m", "max_depth_m"}}});
+  registry.AddRequirement(module, mask_stage);
+}
+
+DenseMapModule::DenseMapModule(std::string name, std::string ply_comment, const ParamMap& p, KeyframeMaskSource masks)
+    : name_(std::move(name)), ply_comment_(std::move(ply_comment)), masks_(std::move(masks)) {
   p.RequireKnownKeys({"keyframe_leaf_m", "global_leaf_m", "filter_every_keyframes", "sor_k",
                       "sor_std_mult", "min_depth_m", "max_depth_m", "pixel_stride",
                       "colour_by_class", "output", "ply_format", "filter_mode", "context_margin_m"});
@@ -34,7 +44,7 @@ DenseMapModule::DenseMapModule(const ParamMap& p, std::shared_ptr<Blackboard> bo
   const std::string fmt = p.GetString("ply_format");
   if (fmt == "ascii") format_ = PlyFormat::kAscii;
   else if (fmt != "binary") throw InputError(p.Get("ply_format").file, p.Get("ply_format").line, "ply_format must be binary|ascii");
-  if (output_.empty()) throw InputError(p.file, p.line, "sgdo.densemap: output must name a file");
+  if (output_.empty()) throw InputError(p.file, p.line, name_ + ": output must name a file");
   // A relative output lives in the run folder; a ".." component would let it escape from there
   // (absolute paths are taken as given, but without ".." either).
   for (size_t begin = 0; begin <= output_.size();) {
@@ -42,23 +52,23 @@ DenseMapModule::DenseMapModule(const ParamMap& p, std::shared_ptr<Blackboard> bo
     if (end == std::string::npos) end = output_.size();
     if (output_.compare(begin, end - begin, "..") == 0)
       throw InputError(p.Get("output").file, p.Get("output").line,
-                       "sgdo.densemap: output must not contain a '..' component: " + output_);
+                       name_ + ": output must not contain a '..' component: " + output_);
     begin = end + 1;
   }
   try {
     options_.Check();
   } catch (const std::invalid_argument& e) {
-    throw InputError(p.file, p.line, "stage sgdo.densemap: " + std::string(e.what()));
+    throw InputError(p.file, p.line, "stage " + name_ + ": " + std::string(e.what()));
   }
   map_ = std::make_unique<dense::DenseMap>(options_);
 }
 
 void DenseMapModule::OnKeyFrame(const MapModuleContext& ctx) {
   const Frame& f = ctx.frame;
-  if (!board_->Has(f)) throw std::logic_error("sgdo.densemap needs sgdo.mask earlier in the stage list");
+  const KeyframeMasks m = masks_(f);
   map_->set_threads(ctx.threads);
-  const dense::KeyframeInsertStats st = map_->AddKeyframe(
-      f.rgb, f.depth_m, board_->mask.mask, board_->static_labels, ctx.camera, ctx.keyframe.T_cw.inverse());
+  const dense::KeyframeInsertStats st =
+      map_->AddKeyframe(f.rgb, f.depth_m, m.exclude, m.class_labels, ctx.camera, ctx.keyframe.T_cw.inverse());
   trace::TraceWriter& tr = ctx.trace;
   tr.FrameCount(name(), "back_projected", st.back_projected);
   tr.FrameCount(name(), "after_voxel", st.after_voxel);
@@ -73,9 +83,8 @@ void DenseMapModule::Finish(const Map&, RunEnd& end) {
   if (output_[0] != '/' && end.out_dir().empty()) return;
   const std::string path = output_[0] == '/' ? output_ : end.out_dir() + "/" + output_;
   map_->Finish();
-  WritePly(path, map_->cloud(), format_,
-           "dynref sgdo dense static map (seed 001 Sec. 3.6)\nkeyframes " + std::to_string(map_->keyframes()));
+  WritePly(path, map_->cloud(), format_, ply_comment_ + "\nkeyframes " + std::to_string(map_->keyframes()));
   end.AddOutput(name(), path, "dense static map, " + std::to_string(map_->cloud().size()) + " points (PLY)");
 }
 
-}  // namespace dynref::sgdo
+}  // namespace dynref::dynamic_common
