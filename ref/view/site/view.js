@@ -326,9 +326,11 @@ function drawPlot(history) {
   const W = 640, H = 220, L = 40, R = 150, T = 10, B = 40;
   const probs = history.rows.filter((r) => r.type === 'prob' && !CARRIER(r.stage));
   const decisions = history.rows.filter((r) => r.type === 'decision');
-  const all = history.rows.map((r) => r.frame);
-  if (all.length === 0) return;
-  const f0 = Math.min(...all), f1 = Math.max(...all) + 1;
+  // A loop, not Math.min(...frames): a followed map point of a 300-frame run reaches 2.26 M records,
+  // beyond the call stack a spread may use ("Maximum call stack size exceeded").
+  let f0 = Infinity, f1 = -Infinity;
+  for (const r of history.rows) f0 = Math.min(f0, r.frame), f1 = Math.max(f1, r.frame + 1);
+  if (f0 > f1) return;
   const x = (f) => L + ((f - f0) / Math.max(1, f1 - f0)) * (W - L - R);
   const y = (p) => T + (1 - p) * (H - T - B);
   svg('line', { x1: L, y1: y(0), x2: W - R, y2: y(0), stroke: '#999' }, plot);
