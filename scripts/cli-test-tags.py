@@ -20,6 +20,14 @@ def match_brace(s, i):
         if in_str:
             if c == '\\': j += 2; continue
             if c == in_str: in_str = None
+        elif s.startswith('//', j):  # a comment's apostrophe ("paper's") is not a char literal
+            j = s.find('\n', j)
+            if j < 0: return len(s) - 1
+            continue
+        elif s.startswith('/*', j):
+            j = s.find('*/', j) + 2
+            if j < 2: return len(s) - 1
+            continue
         elif c in '"\'':
             # raw strings R"(...)"
             if c == '"' and j > 0 and s[j-1] == 'R':
