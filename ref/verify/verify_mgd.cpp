@@ -232,7 +232,7 @@ class MgdVerifier final : public Verifier {
     const double w = c.Need(r, "weight");
     if (!c.ok()) return;
     c.Near("in_box", 1, in_box, 0);
-    c.Near("weight", p > tau ? 0.0 : 1.0 - p, w, kTol);
+    c.Near("weight", p > tau ? 0.0 : KeptWeight(params_, p), w, kTol);
     c.Near("before", 0, r.before, 0);
     c.Near("after", 0, r.after, 0);
   }

@@ -8,6 +8,7 @@
 #include <algorithm>
 
 #include "dynamic/mgd/line_samples.h"
+#include "dynamic/mgd/probability.h"
 #include "dynamic/mgd/stages.h"
 
 namespace dynref::mgd {
@@ -36,7 +37,7 @@ namespace {
 void WeighLostFrameByBoxPrior(StageContext& ctx, const MgdOptions& o, const MgdState& s) {
   if (o.weight != WeightForm::kOneMinusP) return;
   const Frame& f = ctx.frame.view();
-  const double w = o.p_init_box > o.tau_dyn ? 0.0 : 1.0 - o.p_init_box;
+  const double w = o.p_init_box > o.tau_dyn ? 0.0 : KeptWeight(o.p_init_box, o);
   for (size_t i = 0; i < f.N(); ++i) {
     const int fi = static_cast<int>(i);
     if (!s.in_box[i] || f.IsExcluded(fi)) continue;
