@@ -29,7 +29,8 @@ void CheckPresetList(const std::vector<std::string>& presets, const std::string&
 
 void CheckMatrixArgs(int frames, const std::vector<uint64_t>& seeds, const std::string& detections,
                      const std::vector<std::string>& sequences, bool reuse, bool collect) {
-  if (frames < 30) throw InputError("--frames", "need at least 30 frames, got " + std::to_string(frames));
+  if (frames != 0 && frames < 30)
+    throw InputError("--frames", "need at least 30 frames, got " + std::to_string(frames) + " (or 0: each preset's own length)");
   CheckSeedList(seeds);
   CheckDetectionMode(detections);
   CheckPresetList(sequences, "--sequences", false);

@@ -10,7 +10,7 @@ namespace dynref::reproduce {
 
 // Known synthetic presets, none twice; `allow_empty` for optional lists (a sweep that may be off).
 void CheckPresetList(const std::vector<std::string>& presets, const std::string& option, bool allow_empty);
-// The arguments every table with runs has: --frames (>= 30), --seeds, --detections, --sequences,
+// The arguments every table with runs has: --frames (>= 30, or 0 = each preset's own length), --seeds, --detections, --sequences,
 // and --collect without --reuse.
 void CheckMatrixArgs(int frames, const std::vector<uint64_t>& seeds, const std::string& detections,
                      const std::vector<std::string>& sequences, bool reuse, bool collect);

@@ -169,10 +169,15 @@ void RunMatrix(Table6& t) {
     Workspace ws(SeedWorkDir(a.work, seed), {a.frames, seed, a.detections}, a.reuse, mode);
     for (const std::string& preset : a.sequences) {
       const std::string seq = ws.EnsureSequence(preset);
-      for (size_t v = 0; v < t.variants.size(); ++v)
+      for (size_t v = 0; v < t.variants.size(); ++v) {
+        // Full traces are counted (RUN/rejection.json) and deleted, except the one the overlay
+        // draws: a table at the papers' lengths would otherwise keep ~40 GB of traces.
+        ws.set_keep_full_traces(!a.no_overlay && preset == "walking_xyz" && int(v) == t.full && seed == a.seeds.front());
         t.results[preset][v].push_back(
             ws.Run(seq, preset + "/" + t.variants[v].config_name, t.configs[v], t.variants[v].label));
+      }
     }
+    ws.set_keep_full_traces(false);
     // Sensitivity of ATE to eta (lambda = 100) and lambda (eta = 0.1), full method without dense map.
     for (const std::string& preset : a.sensitivity) {
       const std::string seq = ws.EnsureSequence(preset);
@@ -200,7 +205,7 @@ void RenderOverlay(Table6& t) {
   t.overlay_png = (fs::path(a.out).parent_path() / (fs::path(a.out).stem().string() + "_overlay.png")).string();
   oo.montage_path = t.overlay_png;
   oo.montage_columns = 2;
-  const int64_t first = a.frames / 2;
+  const int64_t first = FramesOf(SynthSpec{a.frames}, "walking_xyz") / 2;
   render::RenderRunOverlays(s.run_dir, first, first + 3, oo);
 }
 
@@ -418,9 +423,10 @@ void WritePerSeedAndPictures(Table6& t, std::ostringstream& md) {
   md << "\n## Plots\n\nBars: dynref's mean over seeds with its S.D., the paper's value in the lighter bar "
         "(log scale; no paper bar where the paper has no such column).\n";
   for (const auto& [caption, file] : t.plots) md << "\n![" << caption << "](" << file << ")\n";
+  const int64_t mid = FramesOf(SynthSpec{a.frames}, "walking_xyz") / 2;  // the overlay's first frame
   if (!t.overlay_png.empty())
-    md << "\n## Overlay (walking_xyz, (S+G+D+O), seed " << a.seeds.front() << ", frames " << a.frames / 2 << "-"
-       << a.frames / 2 + 3 << ")\n\n"
+    md << "\n## Overlay (walking_xyz, (S+G+D+O), seed " << a.seeds.front() << ", frames " << mid << "-" << mid + 3
+       << ")\n\n"
        << "![overlay](" << fs::path(t.overlay_png).filename().string() << ")\n\n"
        << "Rejected keypoints vs kept ones, ground-truth rings (red = moving) from `SEQ/gt/`.\n";
 }

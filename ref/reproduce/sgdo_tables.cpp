@@ -104,6 +104,7 @@ void RunCells(SgdoRun& r) {
   for (uint64_t seed : a.seeds) {
     Workspace ws(SeedWorkDir(a.work, seed), {a.frames, seed, a.detections}, a.reuse,
                  a.collect ? WorkMode::kCollect : WorkMode::kMake);
+    ws.set_keep_full_traces(false);  // counted into RUN/rejection.json: disk stays bounded at the papers' lengths
     for (const std::string& preset : a.sequences) {
       const std::string seq = ws.EnsureSequence(preset);
       for (size_t m = 0; m < 2; ++m)

@@ -26,7 +26,8 @@ void AddMatrixOptions(CLI::App& app, MatrixArgs& a, const MatrixHelp& help) {
   app.add_option("--out", a.out, "Markdown report (default " + a.out + ")");
   app.add_option("--work", a.work, help.work + " (default " + a.work + ")");
   app.add_option("--frames", a.frames,
-                 help.frames.empty() ? "Frames per synthetic sequence (default " + std::to_string(a.frames) + ")"
+                 help.frames.empty() ? "Frames per synthetic sequence; 0 = each preset's own length, that of the real "
+                                       "sequence it imitates (the paper's length) (default " + std::to_string(a.frames) + ")"
                                      : help.frames);
   CLI::Option* seeds = app.add_option("--seeds", a.seeds_text, help.seeds)->delimiter(',');
   if (!help.seed.empty()) app.add_option("--seed", a.seed_text, help.seed)->excludes(seeds);

@@ -197,7 +197,7 @@ void CheckSynthesisedAs(const std::string& dir, const SynthSpec& spec, const std
   }
   const std::vector<std::pair<std::string, std::string>> want = {
       {"preset", preset},
-      {"frames", std::to_string(spec.frames)},
+      {"frames", std::to_string(FramesOf(spec, preset))},
       {"seed", std::to_string(spec.seed)},
       {"blur", spec.blur ? "true" : "false"},
       {"low_light", spec.low_light ? "true" : "false"}};
@@ -264,13 +264,18 @@ MethodConfig LoadConfigWithout(const std::string& config_name, const std::vector
   return cfg;
 }
 
+int FramesOf(const SynthSpec& spec, const std::string& preset) {
+  return spec.frames > 0 ? spec.frames : synth::GetPreset(preset).default_frames;
+}
+
 std::string SeedWorkDir(const std::string& work, uint64_t seed) { return work + "/seed" + std::to_string(seed); }
 
 std::string FramesTable(const std::vector<std::string>& presets, int frames, const std::vector<std::string>& paper_rows) {
   std::string md = "| Sequence | dynref frames per run | paper sequence | paper frames (full sequence) |\n|---|---|---|---|\n";
   for (size_t i = 0; i < presets.size(); ++i) {
     const bool has = i < paper_rows.size() && !paper_rows[i].empty();
-    md += "| " + presets[i] + " | " + std::to_string(frames) + " | " + (has ? paper_rows[i] : "-") + " | " +
+    const int run_frames = FramesOf(SynthSpec{frames}, presets[i]);
+    md += "| " + presets[i] + " | " + std::to_string(run_frames) + " | " + (has ? paper_rows[i] : "-") + " | " +
           (has ? std::to_string(synth::GetPreset(presets[i]).default_frames) : "-") + " |\n";
   }
   return md;
@@ -309,7 +314,7 @@ std::string Workspace::EnsureSequence(const std::string& preset) {
   o.blur = spec_.blur;
   o.low_light = spec_.low_light;
   o.out = dir;
-  std::cerr << "reproduce: synth " << preset << " (" << spec_.frames << " frames, seed " << spec_.seed
+  std::cerr << "reproduce: synth " << preset << " (" << FramesOf(spec_, preset) << " frames, seed " << spec_.seed
             << (spec_.blur ? ", blur" : "") << (spec_.low_light ? ", low light" : "") << ")\n";
   synth::GenerateSequence(o);
   AtomicWriteFile(marker, SynthKey(spec_, preset));

@@ -20,12 +20,15 @@ namespace dynref::reproduce {
 MethodConfig LoadConfigWithout(const std::string& config_name, const std::vector<std::string>& drop);
 
 struct SynthSpec {
-  int frames = 300;
+  int frames = 300;  // 0 = each preset's own length, that of the real sequence it imitates (--frames 0)
   uint64_t seed = 1;
   std::string detections = "yolo-like";  // synthetic detection mode (SEQ/detections/<mode>)
   bool blur = false;                     // dynref synth --blur (seed 003)
   bool low_light = false;                // dynref synth --low-light (seed 004)
 };
+
+// The frames `spec` gives `preset`'s sequence: spec.frames, or the preset's default length when 0.
+int FramesOf(const SynthSpec& spec, const std::string& preset);
 
 // One run of one variant on one sequence, evaluated.
 struct RunSummary {
@@ -71,7 +74,8 @@ std::string SeedWorkDir(const std::string& work, uint64_t seed);
 
 // The Markdown table "dynref frames per run | paper sequence | paper frames (full sequence)" of the
 // presets; paper_rows[i] names preset i's real sequence, "" when none (printed "-"). The paper's
-// frame count is the preset's default length, which imitates the real TUM sequence.
+// frame count is the preset's default length, which imitates the real TUM sequence; frames 0 runs
+// every preset at that length.
 std::string FramesTable(const std::vector<std::string>& presets, int frames, const std::vector<std::string>& paper_rows);
 
 // The distinct commits that made `runs`, in order: "abc123" or "abc123, def456".

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "reproduce/arg_checks.h"
 #include "reproduce/workspace.h"
 #include "test_support.h"
 
@@ -56,5 +57,31 @@ TEST_CASE("reproduce --collect refuses a sequence synthesised with --width below
       CHECK(e.file() == seq + "/synth.yaml");
       CHECK_THAT(e.what(), Catch::Contains("width is '160', this table needs '640'"));
     }
+  }
+}
+
+TEST_CASE("reproduce --frames 0: every preset at its own length (the real sequence's), checked on --collect") {
+  reproduce::SynthSpec paper;
+  paper.frames = 0;
+  CHECK(reproduce::FramesOf(paper, "walking_xyz") == 859);  // fr3/walking_xyz
+  CHECK(reproduce::FramesOf(paper, "sitting_static") == 707);
+  CHECK(reproduce::FramesOf(CollectSpec(), "walking_xyz") == 30);
+  CHECK_NOTHROW(reproduce::CheckMatrixArgs(0, {1}, "yolo-like", {"walking_xyz"}, false, false));
+  CHECK_THROWS_AS(reproduce::CheckMatrixArgs(29, {1}, "yolo-like", {"walking_xyz"}, false, false), InputError);
+  const std::string table = reproduce::FramesTable({"walking_xyz", "sitting_static"}, 0, {"w_xyz", "s_static"});
+  CHECK_THAT(table, Catch::Contains("| walking_xyz | 859 | w_xyz | 859 |"));
+  CHECK_THAT(table, Catch::Contains("| sitting_static | 707 | s_static | 707 |"));
+  // A 30-frame sequence is not the 859 frames --frames 0 asks for.
+  const std::string dir = test::ScratchDir("reproduce_collect_frames0");
+  const std::string seq = CollectSynthFolder(dir, "");
+  reproduce::SynthSpec spec = CollectSpec();
+  spec.frames = 0;
+  reproduce::Workspace ws(dir, spec, false, reproduce::WorkMode::kCollect);
+  try {
+    ws.EnsureSequence("walking_xyz");
+    FAIL("a 30-frame sequence was collected for --frames 0");
+  } catch (const InputError& e) {
+    CHECK(e.file() == seq + "/synth.yaml");
+    CHECK_THAT(e.what(), Catch::Contains("frames is '30', this table needs '859'"));
   }
 }

@@ -1,0 +1,45 @@
+#!/usr/bin/env bash
+# Every paper-table report of `dynref reproduce --list`, regenerated at one commit by the workflow
+# (`snakemake all`, workflow/Snakefile: headline tables at the papers' lengths over seeds 1-5,
+# ablations at 300 frames over seeds 1-3), then reports/README.md naming that commit, the matrix
+# and the total CPU and wall time (GNU time over snakemake and every job it ran). Issue 38.
+#
+#   bash scripts/regenerate-reports.sh              # -j 2, work folder dynref-work/tables
+#   JOBS=8 WORK=/scratch/tables bash scripts/regenerate-reports.sh
+#   SNAKEMAKE_ARGS="--profile workflow/profiles/slurm" bash ...   (CPU time is then the cluster's, not counted)
+#
+# Refuses a tree with uncommitted changes (a report must name a commit that holds its code); the
+# work folder is kept, so a run stopped half way resumes where it stopped (snakemake's own rule).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+JOBS=${JOBS:-2}
+WORK=${WORK:-dynref-work/tables}
+DYNREF=${DYNREF:-build/dynref}
+if [ -n "$(git status --porcelain --untracked-files=no)" ]; then
+  echo "regenerate-reports: the tree has uncommitted changes; commit first (a report names its commit)" >&2
+  exit 2
+fi
+command -v snakemake > /dev/null || { echo "regenerate-reports: needs snakemake (bash scripts/install-deps.sh --tests)" >&2; exit 2; }
+command -v /usr/bin/time > /dev/null || { echo "regenerate-reports: needs GNU time (apt-get install time)" >&2; exit 2; }
+bash scripts/build.sh dynref
+commit=$(git rev-parse --short=12 HEAD)
+built=$("$DYNREF" version | grep -o '[0-9a-f]\{12\}[+a-z]*' | head -1)
+[ "$built" = "$commit" ] || { echo "regenerate-reports: $DYNREF is $built, the tree is $commit" >&2; exit 2; }
+mkdir -p "$WORK"
+# One line per invocation (a regeneration stopped half way is resumed by running this again at the
+# same commit; the README sums the lines): start, commit, jobs, wall s, user s, sys s.
+log="$WORK/regenerate-time.log"
+if [ -f "$log" ] && ! awk -v c="$commit" '$2 != c { exit 1 }' "$log"; then
+  echo "regenerate-reports: $log holds a run at another commit; remove it (or use another WORK)" >&2
+  exit 2
+fi
+times="$WORK/time.txt"
+start=$(date -u +%Y-%m-%dT%H:%MZ)
+# --forcerun on the report rules: every report is rewritten, even when its runs are all current.
+/usr/bin/time -f "%e %U %S" -o "$times" \
+  snakemake -s workflow/Snakefile -j "$JOBS" --rerun-incomplete ${SNAKEMAKE_ARGS:-} \
+  --forcerun table_report table6 sgdo_main_table \
+  --config dynref="$DYNREF" work="$WORK" reports=reports
+echo "$start $commit $JOBS $(cat "$times")" >> "$log"
+python3 scripts/reports_readme.py --time-log "$log" --config workflow/config.yaml --out reports/README.md
+echo "regenerate-reports: reports/README.md written (commit $commit)"
