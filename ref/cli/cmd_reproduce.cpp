@@ -5,6 +5,7 @@
 
 #include "cli/command.h"
 #include "core/error.h"
+#include "reproduce/claims_ledger.h"
 #include "reproduce/table_registry.h"
 
 namespace dynref::cli {
@@ -19,6 +20,16 @@ void RegisterReproduceCommand(CLI::App& root, CommandList& out) {
   reproduce::RegisterBuiltinTables(tables);
   for (auto& [app, run] : reproduce::AddTableSubcommands(*rep, tables, {ParseSeed, ParseSeedList}))
     out.push_back({app, run});
+
+  // `dynref reproduce claims`: the claims ledger from the committed reports (no runs).
+  auto claims = std::make_shared<reproduce::ClaimsArgs>();
+  CLI::App* cl = rep->add_subcommand(
+      "claims", "Write the claims ledger: every relative claim of the five papers, our numbers from the reports, "
+                "a verdict each (reports/CLAIMS.md)");
+  cl->add_option("--out", claims->out, "The ledger (default reports/CLAIMS.md)");
+  cl->add_option("--reports", claims->reports,
+                 "Folder of the reports and of paper-tables/ to read (default reports)");
+  out.push_back({cl, [claims] { return reproduce::RunClaimsLedger(*claims); }});
 
   // `dynref reproduce --list` (the node itself; last, so a parsed table wins the dispatch in main).
   out.push_back({rep, [list, tables] {
