@@ -2,7 +2,8 @@
 # Every paper-table report of `dynref reproduce --list`, regenerated at one commit by the workflow
 # (`snakemake all`, workflow/Snakefile: headline tables at the papers' lengths over seeds 1-5,
 # ablations at 300 frames over seeds 1-3), then reports/README.md naming that commit, the matrix
-# and the total CPU and wall time (GNU time over snakemake and every job it ran). Issue 38.
+# and the total CPU and wall time (GNU time over snakemake and every job it ran), and the claims
+# ledger reports/CLAIMS.md from the new reports. Issue 38.
 #
 #   bash scripts/regenerate-reports.sh              # -j 2, work folder dynref-work/tables
 #   JOBS=8 WORK=/scratch/tables bash scripts/regenerate-reports.sh
@@ -41,5 +42,7 @@ start=$(date -u +%Y-%m-%dT%H:%MZ)
   --forcerun table_report table6 sgdo_main_table \
   --config dynref="$DYNREF" work="$WORK" reports=reports
 echo "$start $commit $JOBS $(cat "$times")" >> "$log"
+# The claims ledger reads the reports just written (reports/CLAIMS.md, issue 38 item 5).
+"$DYNREF" reproduce claims --out reports/CLAIMS.md --reports reports
 python3 scripts/reports_readme.py --time-log "$log" --config workflow/config.yaml --out reports/README.md
 echo "regenerate-reports: reports/README.md written (commit $commit)"
