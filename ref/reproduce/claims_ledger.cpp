@@ -25,7 +25,10 @@ class ClaimSources {
   std::string Runs(const std::string& report) {
     const ReportProvenance p = Provenance(report);
     std::string s = p.seeds.empty() ? "seeds as in the report" : "seeds " + p.seeds;
-    if (!p.frames.empty()) s += ", " + p.frames + " frames";
+    if (p.frames == "0")
+      s += ", the papers' lengths (--frames 0)";  // each preset as long as the real sequence it imitates
+    else if (!p.frames.empty())
+      s += ", " + p.frames + " frames";
     return s;
   }
   ReportProvenance Provenance(const std::string& report) {
