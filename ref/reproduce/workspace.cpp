@@ -358,7 +358,12 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
   ro.allow_empty = true;
   const TumTrajectory est = ReadTumTrajectory(s.run_dir + "/trajectory.txt", ro);
   s.tracked = static_cast<int>(est.poses.size());
-  s.frames = static_cast<int>(OpenSequence(seq_dir).frames.size());
+  const nlohmann::json run = nlohmann::json::parse(ReadText(s.run_dir + "/run.json"), nullptr, false);
+  // The run's own count of the sequence's frames: a table's report reads no image once its runs
+  // are counted, so the workflow may prune the sequence's images (workflow/Snakefile).
+  s.frames = !run.is_discarded() && run.contains("frames_in_sequence")
+                 ? run["frames_in_sequence"].get<int>()
+                 : static_cast<int>(OpenSequence(seq_dir).frames.size());
   try {
     const AteResult ate = ComputeAte(gt, est, AteOptions{});
     s.ate = ate.stats;
@@ -374,7 +379,6 @@ RunSummary Workspace::Run(const std::string& seq_dir, const std::string& run_nam
   } catch (const InputError&) {
     // fewer than 2 pairs: the tables print n/a
   }
-  const nlohmann::json run = nlohmann::json::parse(ReadText(s.run_dir + "/run.json"), nullptr, false);
   if (!run.is_discarded()) s.commit = run.value("dynref_commit", std::string("unknown"));
   if (!run.is_discarded()) s.end_state = run.value("end_state", std::string());
   if (!run.is_discarded() && run.contains("timing")) {
