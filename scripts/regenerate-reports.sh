@@ -36,10 +36,12 @@ if [ -f "$log" ] && ! awk -v c="$commit" '$2 != c { exit 1 }' "$log"; then
 fi
 times="$WORK/time.txt"
 start=$(date -u +%Y-%m-%dT%H:%MZ)
-# --forcerun on the report rules: every report is rewritten, even when its runs are all current.
+# --forcerun on every report (reproduce --list's third column): each is rewritten, even when its
+# runs are all current.
+reports=$("$DYNREF" reproduce --list | tail -n +2 | cut -f3)
 /usr/bin/time -f "%e %U %S" -o "$times" \
   snakemake -s workflow/Snakefile -j "$JOBS" --rerun-incomplete ${SNAKEMAKE_ARGS:-} \
-  --forcerun table_report table6 sgdo_main_table \
+  --forcerun $reports \
   --config dynref="$DYNREF" work="$WORK" reports=reports
 echo "$start $commit $JOBS $(cat "$times")" >> "$log"
 # The claims ledger reads the reports just written (reports/CLAIMS.md, issue 38 item 5).
