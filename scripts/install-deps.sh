@@ -9,7 +9,8 @@ PACKAGES=(
   ninja-build                # faster parallel builds on few cores (scripts/build.sh)
   libeigen3-dev              # linear algebra, SE(3)
   libopencv-dev libopencv-contrib-dev  # images, ORB/FAST, LK, DNN (OpenCV 4.6)
-  zlib1g-dev                 # dynref view: compressed per-frame data files (ref/view/packed.cpp)
+  zlib1g-dev                 # dynref view: zlib literal (tests, size comparison; ref/view/packed.cpp)
+  liblzma-dev                # dynref view: LZMA-compressed data files (ref/view/lzma_pack.cpp)
   libpng-dev libjpeg-dev     # png.h / jpeglib.h: the executable keeps the codecs' messages (ref/cli/main.cpp)
   libceres-dev               # pose-only optimisation and local BA
   libopenimageio-dev         # off-screen overlays, montages, plots

@@ -24,6 +24,9 @@ void RegisterViewCommand(CLI::App& root, CommandList& out) {
   app->add_option("--image-scale", options->image_scale, "Overlay JPEG size relative to the frame, 0.1..1 (default 0.5)");
   app->add_option("--digits", options->digits,
                   "Significant digits of the numbers the page shows, 1..17 (default 6; 17 = exact, a larger site)");
+  app->add_option("--chunk-frames", options->chunk_frames,
+                  "Frames per data file, 1..1000 (default 30: one LZMA stream each, smaller than fewer; the page decodes "
+                  "a whole file to show one of its frames)");
   app->footer("Exit 0: site written. Exit 2: bad input (a run without trace, an existing folder not written by dynref view).");
   out.push_back({app, [options] {
                    options->progress = ::isatty(STDERR_FILENO) != 0;

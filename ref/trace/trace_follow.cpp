@@ -48,13 +48,21 @@ int64_t IdValue(double v) {
   return static_cast<int64_t>(v);
 }
 
+// A residual link (the backbone's `*.obs` records, AddResidualLink): a reference the chain shows
+// one hop from where it was reached, never followed further (README "Following a feature").
+bool IsResidualLink(const std::string& via) { return via.compare(0, 10, "residual (") == 0; }
+
 class LinkGraph {
  public:
   void Link(const std::string& a, const std::string& b, const std::string& via) {
     if (a == b) return;
-    // The first link between two entities names it (both directions are new together).
-    if (adjacency_[a].emplace(b, via).second) links_.links.push_back({a, b, via});
-    adjacency_[b].emplace(a, via);
+    // The first link between two entities names it (both directions are new together), except
+    // that an identity link replaces a residual one (listed again: site/view.js does the same).
+    auto [it, fresh] = adjacency_[a].emplace(b, via);
+    if (!fresh && !(IsResidualLink(it->second) && !IsResidualLink(via))) return;
+    it->second = via;
+    adjacency_[b][a] = via;
+    links_.links.push_back({a, b, via});
   }
   void Instance(int64_t inst, const std::string& entity) {
     if (instances_[inst].insert(entity).second) links_.instance_masks.push_back(entity);
@@ -67,7 +75,10 @@ class LinkGraph {
   // (two features naming the same previous feature) do not join through their common ancestor.
   // A landmark (mp / ml / mpl) brings in every entity linked to it in every frame, each followed
   // on in the direction of its frame from the entity the landmark was first reached from (both
-  // ways when the landmark is the start). Masks join every mask with the same instance id.
+  // ways when the landmark is the start). Residual links are one-hop references: the entity at
+  // their other end joins the chain but is not searched from (a landmark reached only through a
+  // residual brings in nothing; an entity reached only through one is not followed on). Masks
+  // join every mask with the same instance id.
   std::vector<ChainEntry> Closure(const std::string& start) const {
     enum : int { kBack = 1, kForward = 2, kBoth = 3 };
     std::map<std::string, ChainEntry> seen;
@@ -100,7 +111,7 @@ class LinkGraph {
       if (!p.per_frame) {  // a landmark as the start: all its entities, both ways
         landmarks_done.insert(e);
         if (it != adjacency_.end())
-          for (const auto& [next, via] : it->second) visit(next, kBoth, via, e);
+          for (const auto& [next, via] : it->second) visit(next, IsResidualLink(via) ? 0 : kBoth, via, e);
         continue;
       }
       if (it != adjacency_.end())
@@ -112,12 +123,12 @@ class LinkGraph {
             continue;
           }
           visit(next, 0, via, e);  // the landmark joins the chain, expanded once: from here
-          if (!landmarks_done.insert(next).second) continue;
+          if (IsResidualLink(via) || !landmarks_done.insert(next).second) continue;
           auto lm = adjacency_.find(next);
           if (lm != adjacency_.end())
             for (const auto& [other, via2] : lm->second) {
               const ParsedId r = ParseId(other);
-              if (r.per_frame) visit(other, towards(p.frame, r.frame, dir), via2, next);
+              if (r.per_frame) visit(other, IsResidualLink(via2) ? 0 : towards(p.frame, r.frame, dir), via2, next);
             }
         }
       if (p.prefix == "i") {

@@ -26,6 +26,8 @@ const char* Escape(unsigned char c) {
   }
 }
 
+}  // namespace
+
 std::string Latin1Literal(const std::string& bytes) {
   std::string out;
   out.reserve(bytes.size() + bytes.size() / 32 + 8);
@@ -55,8 +57,6 @@ std::string Latin1Bytes(const std::string& text) {
   }
   return out;
 }
-
-}  // namespace
 
 std::string DeflateLatin1(const std::string& text) {
   uLongf size = compressBound(static_cast<uLong>(text.size()));

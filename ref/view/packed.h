@@ -1,9 +1,9 @@
 // Compact data files of `dynref view` (README.md "Size"): a frame's records as columns (one per
 // record schema and field, file order kept by a schema-id column), numbers rounded to the
 // significant digits the page shows, repeated columns and id-like text columns encoded compactly
-// (PackColumns), zlib-compressed into a <script> string of one character per byte (the page loads
-// the file as windows-1252 and inflates the bytes with the browser's DecompressionStream: no
-// fetch(), works from file://).
+// (PackColumns), compressed (LZMA; zlib kept for tests and comparisons) into a <script> string of
+// one character per byte (the page loads the file as windows-1252 and decodes the bytes with
+// site/lzma.js: no fetch(), works from file://).
 #pragma once
 #include <string>
 
@@ -18,6 +18,14 @@ namespace dynref::view {
 std::string DeflateLatin1(const std::string& text);
 // Inverse of DeflateLatin1 (tests); InputError on a corrupt string.
 std::string InflateLatin1(const std::string& literal);
+// The same literal of an LZMA stream (liblzma's ".lzma" format: 13-byte header, LZMA1 at preset
+// 9e with pb = 0, end marker) of `text`: frame chunks and the summary, 25-30 % smaller than zlib
+// (README.md "Size"); the page decodes it with site/lzma.js. UnlzmaLatin1 inverts it (tests).
+std::string LzmaLatin1(const std::string& text);
+std::string UnlzmaLatin1(const std::string& literal);
+// `bytes` as a JavaScript "..." literal body, one character per byte, and back (InputError).
+std::string Latin1Literal(const std::string& bytes);
+std::string Latin1Bytes(const std::string& literal);
 // A frame's columns {schema id: [column...]} (site_data.cpp FrameColumns) with each column that
 // equals an earlier one (in the object's key order) replaced by {"=": [schema id, index]}, and each
 // remaining all-text column whose values share one text between their integers ("f12.3",

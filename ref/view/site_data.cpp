@@ -82,14 +82,42 @@ void LandmarkLinks(const trace::FlatRecord& r, int64_t frame, std::vector<std::s
   }
 }
 
-// `call(a, b, ..., "packed");` with each argument as ASCII JSON and `packed` the zlib stream of
-// `data` as a one-character-per-byte literal (packed.h DeflateLatin1; the page loads these files
-// as windows-1252).
-std::string PackedScript(const std::string& call, const json& args, const json& data) {
+// `call(a, b, ..., "packed");` with each argument as ASCII JSON and `packed` the LZMA stream of
+// `json_text` as a one-character-per-byte literal (packed.h LzmaLatin1; the page loads these files
+// as windows-1252 and decodes them with site/lzma.js): frame chunks, the summary, the links.
+std::string LzmaScript(const std::string& call, const json& args, const std::string& json_text) {
   std::string text = call + "(";
   for (const json& a : args) text += a.dump(-1, ' ', true) + ",";
-  return text + "\"" + DeflateLatin1(data.dump()) + "\");\n";
+  return text + "\"" + LzmaLatin1(json_text) + "\");\n";
 }
+
+// K frame groups in one file OUT/data/r<k>/c<n>.js: `VIEW.chunkZ(k, n, [head...], packed)` with
+// packed the LZMA stream of the JSON array of the frames' columns (LZMA's window spans the chunk,
+// where zlib's 32 KB held less than one frame: README.md "Size").
+class ChunkWriter {
+ public:
+  ChunkWriter(std::string dir, int k, int per_chunk) : dir_(std::move(dir)), k_(k), per_chunk_(per_chunk) {}
+  uint64_t Add(const json& head, const json& columns) {
+    heads_.push_back(head);
+    text_ += text_.empty() ? "[" : ",";
+    text_ += columns.dump();
+    return heads_.size() == static_cast<size_t>(per_chunk_) ? Flush() : 0;
+  }
+  uint64_t Flush() {
+    if (heads_.empty()) return 0;
+    const std::string script = LzmaScript("VIEW.chunkZ", json::array({k_, chunk_, heads_}), text_ + "]");
+    AtomicWriteFile(dir_ + "/c" + std::to_string(chunk_++) + ".js", script);
+    heads_ = json::array();
+    text_.clear();
+    return script.size();
+  }
+
+ private:
+  std::string dir_;
+  int k_, per_chunk_, chunk_ = 0;
+  json heads_ = json::array();
+  std::string text_;
+};
 
 // Trajectory against ground truth (synthetic or TUM folder): aligned positions and ATE per pose.
 json TrajectoryData(const std::string& run_dir, const json& run_json) {
@@ -141,7 +169,7 @@ class FrameColumns {
 };
 
 // OUT/data/r<k>/links.js: the links `trace feature --follow` searches (trace_feature.h
-// CollectFollowLinks), packed: {"via": [names], "links": [a, b, via index, ...], "masks": [...]}.
+// CollectFollowLinks), packed (LZMA): {"via": [names], "links": [a, b, via index, ...], "masks": [...]}.
 uint64_t WriteFollowLinks(trace::TraceReader& reader, int k, const std::string& dir) {
   const trace::FollowLinks links = trace::CollectFollowLinks(reader);
   std::map<std::string, int> via_ids;
@@ -152,7 +180,7 @@ uint64_t WriteFollowLinks(trace::TraceReader& reader, int k, const std::string& 
     flat.push_back(l.a), flat.push_back(l.b), flat.push_back(it->second);
   }
   const json data = {{"via", via}, {"links", flat}, {"masks", links.instance_masks}};
-  const std::string text = PackedScript("VIEW.linksZ", json::array({k}), data);
+  const std::string text = LzmaScript("VIEW.linksZ", json::array({k}), data.dump());
   AtomicWriteFile(dir + "/links.js", text);
   return text.size();
 }
@@ -178,6 +206,7 @@ RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_d
   std::map<std::string, std::vector<int64_t>> links;  // entity -> frames of other groups with its records
   std::map<std::string, json> counts;                 // "stage.name" -> [[frame, value]...]
   json frames = json::array(), stamps = json::array();
+  ChunkWriter chunks(dir, k, options.chunk_frames);
   for (size_t g = 0; g < reader.groups().size(); ++g) {
     const std::vector<trace::Record> raw = reader.ReadGroup(g);
     const std::vector<trace::FlatRecord> recs = trace::FlattenGroup(raw);
@@ -198,13 +227,12 @@ RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_d
     auto img = image_for_frame.find(frame);
     const json head = {{"frame", frame}, {"stamp", Number(stamp)},
                        {"image", img == image_for_frame.end() ? "" : img->second}};
-    const std::string text = PackedScript("VIEW.frameZ", json::array({k, frame, head}), columns.Json());
-    AtomicWriteFile(dir + "/f" + std::to_string(frame) + ".js", text);
-    site.data_bytes += text.size();
+    site.data_bytes += chunks.Add(head, columns.Json());
     site.frames.push_back(frame);
     frames.push_back(frame);
     stamps.push_back(Number(stamp));
   }
+  site.data_bytes += chunks.Flush();
   site.data_bytes += WriteFollowLinks(reader, k, dir);
   json header = json::object();
   for (const auto& [key, value] : reader.header())
@@ -219,9 +247,10 @@ RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_d
                         {"frames", frames},            {"stamps", stamps},
                         {"links", link_json},          {"counts", count_json},
                         {"digits", options.digits},    {"image_scale", options.image_scale},
+                        {"chunk_frames", options.chunk_frames},
                         {"trajectory", TrajectoryData(run_dir, run_json)},
                         {"divergence", divergence_json.empty() ? json() : json::parse(divergence_json)}};
-  const std::string text = PackedScript("VIEW.summaryZ", json::array({k}), summary);
+  const std::string text = LzmaScript("VIEW.summaryZ", json::array({k}), summary.dump());
   AtomicWriteFile(dir + "/summary.js", text);
   site.data_bytes += text.size();
   return site;

@@ -1,5 +1,5 @@
 // Data files of `dynref view` (README.md): one JavaScript file per run summary and per frame,
-// each a call `VIEW.summaryZ(run, packed)` / `VIEW.frameZ(run, frame, head, packed)` (packed.h), so that the page works
+// each a call `VIEW.summaryZ(run, packed)` / `VIEW.chunkZ(run, n, heads, packed)` (packed.h), so that the page works
 // from file:// (browsers refuse fetch() of local JSON, not <script src>). Records are the canonical
 // flat view of ref/trace (the rows `dynref trace feature` prints), stored once per frame with a
 // per-run table of record schemas (type, stage, kind, field names); numbers rounded to
@@ -24,10 +24,11 @@ struct RunSite {
 struct DataOptions {
   int digits = 6;            // significant digits of the numbers written (17: exact)
   double image_scale = 0.5;  // overlay images' scale (the page maps clicks back to pixels)
+  int chunk_frames = 30;     // frame groups per data file c<n>.js (one LZMA stream; README.md "Size")
 };
 
-// Writes OUT/data/r<k>/summary.js, OUT/data/r<k>/links.js (the links of `trace feature --follow`) and OUT/data/r<k>/f<frame>.js for every frame group of the
-// run's trace. `image_for_frame` names each frame's overlay image relative to OUT ("" none).
+// Writes OUT/data/r<k>/summary.js, OUT/data/r<k>/links.js (the links of `trace feature --follow`) and OUT/data/r<k>/c<n>.js for every
+// `chunk_frames` frame groups of the run's trace (the n-th chunk: groups n*K .. n*K+K-1). `image_for_frame` names each frame's overlay image relative to OUT ("" none).
 // `divergence` (may be empty) is the first divergence against run 0, as `dynref diff` finds it.
 RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_dir, const DataOptions& options,
                      const std::map<int64_t, std::string>& image_for_frame, const std::string& divergence_json);

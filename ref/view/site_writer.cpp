@@ -90,6 +90,7 @@ void ViewOptions::Check() const {
   if (jpeg_quality < 1 || jpeg_quality > 100) throw InputError("--jpeg-quality", "must be 1..100");
   if (!(image_scale >= 0.1 && image_scale <= 1.0)) throw InputError("--image-scale", "must be 0.1..1");
   if (digits < 1 || digits > 17) throw InputError("--digits", "must be 1..17");
+  if (chunk_frames < 1 || chunk_frames > 1000) throw InputError("--chunk-frames", "must be 1..1000");
   for (const std::string& r : runs)
     if (!fs::exists(trace::ResolveTracePath(r))) throw InputError(r, "no trace.dtr (run with --trace full)");
   if (fs::exists(out_dir) && !fs::is_empty(out_dir) && !fs::exists(out_dir + "/" + kMarker))
@@ -111,7 +112,7 @@ ViewResult WriteSite(const ViewOptions& options) {
       if (options.overlays) images = RenderImages(run, static_cast<int>(k), tmp, options);
       const std::string divergence =
           k == 0 || !SameMethod(options.runs[0], run) ? "" : FirstDivergence(options.runs[0], run);
-      const DataOptions data{options.digits, options.image_scale};
+      const DataOptions data{options.digits, options.image_scale, options.chunk_frames};
       const RunSite site = WriteRunData(run, static_cast<int>(k), tmp, data, images, divergence);
       result.frames += static_cast<int64_t>(site.frames.size());
       result.images += static_cast<int64_t>(images.size());

@@ -18,6 +18,7 @@ struct ViewOptions {
   int jpeg_quality = 60;          // README.md "Size": 15 % smaller than 70 at half size, labels still legible
   double image_scale = 0.5;       // overlay JPEG size relative to the frame (0.1..1)
   int digits = 6;                 // significant digits of the numbers in the data files (1..17; 17 exact)
+  int chunk_frames = 30;          // frames per data file (one LZMA stream; 1..1000)
   bool progress = false;          // frame i/N on stderr
   void Check() const;             // InputError naming the bad option
 };

@@ -86,11 +86,15 @@ TEST_CASE("follow: line samples, masks through their instance id, residual links
   const FeatureHistory lone = CollectFollowHistory(r, "f2.99");
   CHECK(ChainIds(lone) == std::vector<std::string>{"f2.99"});
   CHECK(lone.rows.size() == 1);  // its OBS
-  // residual links: a local BA observation of keyframe kf3 (frame 1) and a pose-only one
+  // residual links: a local BA observation of keyframe kf3 (frame 1) and a pose-only one. They are
+  // one-hop references (README "Following a feature"): mp70 joins f1.99's chain but does not bring
+  // in f6.99; from mp70 both features join.
   const FeatureHistory res = CollectFollowHistory(r, "f1.99");
-  CHECK(ChainIds(res) == std::vector<std::string>{"f1.99", "f6.99", "mp70"});
-  CHECK(res.chain.at(2).via == "residual (localba.obs)");
+  CHECK(ChainIds(res) == std::vector<std::string>{"f1.99", "mp70"});
+  CHECK(res.chain.at(1).via == "residual (localba.obs)");
   CHECK(RowEntities(res).count("mp70@kf3"));
+  CHECK(ChainIds(CollectFollowHistory(r, "f6.99")) == std::vector<std::string>{"f6.99", "mp70"});
+  CHECK(ChainIds(CollectFollowHistory(r, "mp70")) == std::vector<std::string>{"f1.99", "f6.99", "mp70"});
 }
 
 TEST_CASE("map point history (no --follow) includes the suppressed feature through associated_map_point_id") {

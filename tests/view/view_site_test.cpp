@@ -145,6 +145,16 @@ TEST_CASE("view end to end: golden mgd_30f mp34's history in Chromium equals dyn
   const nlohmann::json page = PageHistory(dir + "/site", "entity=mp34&follow=0", dir);
   CheckSameHistory(cli, page);
 
+  SECTION("data files of 7 frames (chunk boundaries inside mp34's frames): the same history") {
+    // 30 frames in files of 7: frames 0-6, 7-13, ..., 28-29; the page must find each frame's
+    // place in its file (site_data.cpp ChunkWriter, view.js frameOf).
+    const auto v7 = RunDynref("view " + Quote(golden) + " --digits 17 --no-overlays --chunk-frames 7 --out " + Quote(dir + "/site7"));
+    REQUIRE(v7.exit_code == 0);
+    CHECK(fs::exists(dir + "/site7/data/r0/c4.js"));
+    CHECK_FALSE(fs::exists(dir + "/site7/data/r0/c5.js"));
+    CheckSameHistory(cli, PageHistory(dir + "/site7", "entity=mp34&follow=0", dir));
+  }
+
   SECTION("the followed chain of the suppressed feature equals trace feature --follow, link for link") {
     REQUIRE(!suppressed.empty());
     std::vector<std::string> chain;
@@ -161,6 +171,19 @@ TEST_CASE("view end to end: golden mgd_30f mp34's history in Chromium equals dyn
     }
     CHECK(page_chain == chain);
     CHECK(chain.size() > 3);  // frames before and after, and the map point
+  }
+
+  SECTION("mp34 followed: the page's chain equals trace feature --follow, residual links one hop") {
+    // mp34's chain has entities reached through residual links (ref/trace/README.md "Following a
+    // feature": one-hop references); page and CLI must apply the same rule.
+    std::vector<std::string> chain;
+    const std::vector<Row> followed = CliHistory(golden, "mp34", true, &chain);
+    const nlohmann::json fpage = PageHistory(dir + "/site", "entity=mp34&follow=1", dir);
+    CheckSameHistory(followed, fpage);
+    CHECK(fpage.at("chain").size() == chain.size());
+    size_t residual = 0;
+    for (const std::string& line : chain) residual += line.find("(residual (") != std::string::npos;
+    CHECK(residual > 0);
   }
 }
 
@@ -203,10 +226,10 @@ TEST_CASE("view end to end: a 30-frame mgd run, a click on a feature opens its h
   for (const auto& e : fs::recursive_directory_iterator(dir + "/site"))
     if (e.is_regular_file()) (e.path().extension() == ".jpg" ? images : data) += e.file_size();
   INFO("data " << data << " B, images " << images << " B for 30 frames");
-  // A regression bound at today's size with ~12 % margin (ref/view/README.md "Size": 152 KB of
-  // data and 24 KB of overlay per frame measured on this run; 185 KB with basE91, 247 KB before
-  // the packed columns). The issue's ~50 MB for 300 frames is not reached (62.4 MiB measured).
-  CHECK(data / 30 < 170 * 1024);
+  // A regression bound at today's size with ~12 % margin (ref/view/README.md "Size": 115 KB of
+  // data and 24 KB of overlay per frame measured on this run, one LZMA file for the 30 frames;
+  // 152 KB with zlib per frame, 185 KB with basE91, 247 KB before the packed columns).
+  CHECK(data / 30 < 130 * 1024);
   CHECK(images / 30 < 27 * 1024);
   // Screenshot of the page with that history open (kept beside the test's outputs).
   const std::string url = "file://" + fs::absolute(dir + "/site").string() + "/index.html?frame=10&follow=1&entity=" + clicked;

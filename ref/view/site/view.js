@@ -1,12 +1,12 @@
 // dynref view: browse runs written by `dynref view RUN... --out DIR` (ref/view/README.md).
-// Data arrive as <script> files calling VIEW.runs / VIEW.summaryZ / VIEW.frameZ, so the page
+// Data arrive as <script> files calling VIEW.runs / summaryZ / chunkZ / linksZ, so the page
 // works from file:// without a server. Records are the canonical flat view of ref/trace: the
 // history of an entity lists the same records as `dynref trace feature`.
 'use strict';
 
 const S = { runs: [], run: 0, summary: {}, summaries: {}, packed: {}, links: {}, graphs: {}, frameIndex: 0, entity: '', scripts: {},
   cache: new Map(), showToken: 0, shapes: { features: [], lines: [] } };
-const CACHE_FRAMES = 24;  // decoded frames kept (the page stays small on long runs)
+const CACHE_CHUNKS = 2;  // decoded data files (chunks of frames) kept: the page stays small on long runs
 const CARRIER = (stage) => stage === 'structure' || stage.startsWith('match.');
 const STAGE_COLOURS = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2', '#7f7f7f',
   '#bcbd22', '#17becf', '#393b79', '#637939', '#8c6d31', '#843c39', '#7b4173'];
@@ -15,7 +15,7 @@ const $ = (id) => document.getElementById(id);
 const VIEW = {
   runs(list) { S.runs = list; start(); },
   summaryZ(k, packed) { S.packed[`summary/${k}`] = packed; },
-  frameZ(k, f, head, packed) { S.packed[`${k}/${f}`] = { head, packed }; },
+  chunkZ(k, n, heads, packed) { S.packed[`${k}/c${n}`] = { heads, packed }; },
   linksZ(k, packed) { S.links[k] = packed; },
 };
 
@@ -38,7 +38,8 @@ function summaryOf(k) {
   if (!S.summaries[k]) {
     S.summaries[k] = (async () => {
       await loadScript(`data/r${k}/summary.js`);
-      S.summary[k] = await inflate(S.packed[`summary/${k}`]);
+      S.summary[k] = unlzma(S.packed[`summary/${k}`]);
+      S.summary[k].indexOfFrame = new Map(S.summary[k].frames.map((f, i) => [f, i]));
       delete S.packed[`summary/${k}`];
       return S.summary[k];
     })();
@@ -46,9 +47,9 @@ function summaryOf(k) {
   return S.summaries[k];
 }
 
-// A packed data string (ref/view/packed.h DeflateLatin1: a zlib stream, one windows-1252
-// character per byte) as JSON. BYTE_OF maps each character back to its byte, from the same
-// decoder the browser read the file with.
+// A packed data string (ref/view/packed.h LzmaLatin1: an LZMA stream, one windows-1252 character
+// per byte) as JSON. BYTE_OF maps each character back to its byte, from the same decoder the
+// browser read the file with.
 const BYTE_OF = new Int16Array(65536).fill(-1);
 {
   const cp1252 = new TextDecoder('windows-1252');
@@ -63,59 +64,88 @@ function latin1Bytes(text) {
   }
   return bytes;
 }
-async function inflate(packed) {
-  const stream = new Blob([latin1Bytes(packed)]).stream().pipeThrough(new DecompressionStream('deflate'));
-  return JSON.parse(await new Response(stream).text());
+// The decoder is lzma.js (the browser's DecompressionStream has no LZMA).
+function unlzma(packed) {
+  return JSON.parse(new TextDecoder().decode(lzmaDecode(latin1Bytes(packed))));
 }
-// Packed columns back to plain ones (packed.h PackColumns): templates {c, t, n} expanded, then
-// references {"=": [schema, index]} to an earlier column resolved.
-function expandColumns(cols) {
-  const expand = (c) => {
-    if (Array.isArray(c) || !c.t) return c;
-    const cur = c.n.map(() => 0), out = new Array(c.c);
-    for (let i = 0; i < c.c; ++i) {
-      let s = c.t[0];
-      for (let k = 0; k < c.n.length; ++k) s += (cur[k] += c.n[k][i]) + c.t[k + 1];
-      out[i] = s;
+// One frame's packed columns (packed.h PackColumns), expanded lazily: a column is restored (a
+// template {c, t, n} expanded, a reference {"=": [schema, index]} resolved) only when asked for,
+// so that a history reads the entity columns of a frame, not all of its numbers.
+class FrameColumns {
+  constructor(p) { this.order = p.order; this.cols = p.cols; this.plain = {}; }
+  column(sid, i) {
+    const key = `${sid}/${i}`;
+    if (this.plain[key]) return this.plain[key];
+    let c = this.cols[sid][i];
+    if (!Array.isArray(c) && c.t) {
+      const cur = c.n.map(() => 0), out = new Array(c.c);
+      for (let r = 0; r < c.c; ++r) {
+        let s = c.t[0];
+        for (let k = 0; k < c.n.length; ++k) s += (cur[k] += c.n[k][r]) + c.t[k + 1];
+        out[r] = s;
+      }
+      c = out;
+    } else if (!Array.isArray(c)) {
+      c = this.column(c['='][0], c['='][1]);
+    }
+    return (this.plain[key] = c);
+  }
+  row(sid, j) {  // [schema, entity, occurrence, values...]
+    const n = this.cols[sid].length, row = [Number(sid)];
+    for (let i = 0; i < n; ++i) row.push(this.column(sid, i)[j]);
+    return row;
+  }
+  // Rows whose entity passes `keep`, in file order; every row when keep is null.
+  rows(keep) {
+    const picked = {};
+    for (const sid of Object.keys(this.cols)) {
+      const ents = this.column(sid, 0), set = new Set();
+      for (let j = 0; j < ents.length; ++j) if (!keep || keep(ents[j])) set.add(j);
+      if (set.size) picked[sid] = set;
+    }
+    const next = {}, out = [];
+    for (const sid of this.order) {
+      const j = (next[sid] = next[sid] === undefined ? 0 : next[sid] + 1);
+      if (picked[sid] && picked[sid].has(j)) out.push(this.row(sid, j));
     }
     return out;
-  };
-  const plain = {};
-  for (const sid of Object.keys(cols)) plain[sid] = cols[sid].map(expand);
-  for (const sid of Object.keys(plain))
-    plain[sid] = plain[sid].map((c) => (Array.isArray(c) ? c : plain[c['='][0]][c['='][1]]));
-  return plain;
+  }
 }
-// Columns (order + per-schema columns) back to rows [schema, entity, occurrence, values...].
-function unpack(p) {
-  const next = {}, cols = expandColumns(p.cols);
-  return p.order.map((sid) => {
-    const c = cols[sid];
-    const j = (next[sid] = next[sid] === undefined ? 0 : next[sid] + 1);
-    const row = [sid, c[0][j], c[1][j]];
-    for (let f = 2; f < c.length; ++f) row.push(c[f][j]);
-    return row;
-  });
-}
-// A frame's data {frame, stamp, image, records}; the last CACHE_FRAMES frames stay decoded.
-function frameOf(k, f) {
-  const key = `${k}/${f}`;
+// The frames of data file c<n>.js of run k (ref/view/site_data.cpp ChunkWriter): [{head, columns}].
+// The last CACHE_CHUNKS files stay decoded.
+function chunkOf(k, n) {
+  const key = `${k}/c${n}`;
   let p = S.cache.get(key);
   if (p) {
     S.cache.delete(key);
   } else {
     p = (async () => {
-      await loadScript(`data/r${k}/f${f}.js`, false);
+      await loadScript(`data/r${k}/c${n}.js`, false);
       const z = S.packed[key];
       delete S.packed[key];
       if (!z) return undefined;
-      return { ...z.head, records: unpack(await inflate(z.packed)) };
+      const frames = unlzma(z.packed);
+      return frames.map((cols, i) => ({ ...z.heads[i], columns: new FrameColumns(cols) }));
     })();
     p.catch(() => S.cache.delete(key));
   }
   S.cache.set(key, p);
-  while (S.cache.size > CACHE_FRAMES) S.cache.delete(S.cache.keys().next().value);
+  while (S.cache.size > CACHE_CHUNKS) S.cache.delete(S.cache.keys().next().value);
   return p;
+}
+// A frame's data {frame, stamp, image, columns} (undefined when the run has no such frame).
+async function frameOf(k, f) {
+  const summary = await summaryOf(k);
+  const index = summary.indexOfFrame.get(f);
+  if (index === undefined) return undefined;
+  const K = summary.chunk_frames;
+  const chunk = await chunkOf(k, Math.floor(index / K));
+  return chunk ? chunk[index % K] : undefined;
+}
+// Every record of a frame as stored rows, decoded once per frame (showFrame).
+function allRows(data) {
+  if (!data.all) data.all = data.columns.rows(null);
+  return data.all;
 }
 
 // A stored row [schema, entity, occurrence, values...] as a record.
@@ -128,8 +158,7 @@ function field(rec, name) {
   const f = rec.fields.find((x) => x[0] === name);
   return f === undefined ? undefined : f[1];
 }
-const matches = (entity, wanted) => entity === wanted || entity.startsWith(wanted + '@');
-const baseId = (entity) => entity.split('@')[0];
+const baseId = (entity) => { const at = entity.indexOf('@'); return at < 0 ? entity : entity.slice(0, at); };
 const perFrame = (id) => /^(f|i|l|pl|r)\d+\.\d+$/.test(id);
 const frameOfId = (id) => Number(id.replace(/^[a-z]+/, '').split('.')[0]);
 
@@ -140,7 +169,30 @@ function framesOf(summary, id) {
   return [...set].sort((a, b) => a - b);
 }
 
-// The records `dynref trace feature RUN ID` lists (README "Feature history").
+// Entities of a frame tied to landmark `m` (/^(mp|ml|mpl)(\d+)$/ match): the OBS naming map point
+// m (associated, else final), or the records with input map_line / map_plane m. Reads only the
+// columns it needs (FrameColumns).
+function relatedEntities(summary, cols, m) {
+  const related = new Set();
+  for (const sid of Object.keys(cols.cols)) {
+    const [type, , , names] = summary.schemas[sid];
+    let values = null;
+    if (m[1] === 'mp' && type === 'obs') {
+      const a = names.indexOf('associated_map_point_id'), f = a >= 0 ? a : names.indexOf('map_point_id');
+      if (f >= 0) values = cols.column(sid, 2 + f);
+    } else if (m[1] !== 'mp') {
+      const f = names.indexOf(m[1] === 'ml' ? 'in.map_line' : 'in.map_plane');
+      if (f >= 0) values = cols.column(sid, 2 + f).map((v) => (v === Number(m[2]) ? m[2] : ''));
+    }
+    if (!values) continue;
+    const ents = cols.column(sid, 0);
+    for (let j = 0; j < ents.length; ++j) if (String(values[j]) === m[2]) related.add(ents[j]);
+  }
+  return related;
+}
+
+// The records `dynref trace feature RUN ID` lists (README "Feature history"). Only the rows of
+// the entity (and of its related entities) are decoded.
 async function plainHistory(k, id) {
   const summary = await summaryOf(k);
   const frames = framesOf(summary, id);
@@ -149,23 +201,9 @@ async function plainHistory(k, id) {
   for (const f of frames) {
     const data = await frameOf(k, f);
     if (!data) continue;
-    const recs = data.records.map((r) => decode(summary, r));
-    const related = new Set();
-    if (m && m[1] === 'mp') {
-      for (const r of recs) {
-        if (r.type !== 'obs') continue;
-        const assoc = field(r, 'associated_map_point_id');
-        if (String(assoc !== undefined ? assoc : field(r, 'map_point_id')) === m[2]) related.add(r.entity);
-      }
-    } else if (m) {
-      const input = m[1] === 'ml' ? 'in.map_line' : 'in.map_plane';
-      for (const r of recs) if (field(r, input) === Number(m[2])) related.add(r.entity);
-    }
-    for (const r of recs) {
-      let take = matches(r.entity, id);
-      for (const x of related) take = take || matches(r.entity, x);
-      if (take) rows.push({ frame: f, ...r });
-    }
+    const wanted = m ? relatedEntities(summary, data.columns, m) : new Set();
+    wanted.add(id);
+    for (const row of data.columns.rows((e) => wanted.has(baseId(e)))) rows.push({ frame: f, ...decode(summary, row) });
   }
   return { id, rows };
 }
@@ -192,15 +230,19 @@ function parseId(id) {
 }
 const byText = (a, b) => (a < b ? -1 : a > b ? 1 : 0);
 
+// A residual link (trace_follow.cpp IsResidualLink): a one-hop reference, never followed further.
+const isResidual = (via) => via.startsWith('residual (');
+
 // The run's link graph (data/r<k>/links.js: the links `trace feature --follow` searches).
 async function graphOf(k) {
   if (S.graphs[k]) return S.graphs[k];
   await loadScript(`data/r${k}/links.js`);
-  const data = await inflate(S.links[k]);
+  const data = unlzma(S.links[k]);
   const adj = new Map(), instances = new Map();
-  const add = (a, b, via) => {
+  const add = (a, b, via) => {  // the first link names a pair, an identity link replaces a residual one
     if (!adj.has(a)) adj.set(a, new Map());
-    if (!adj.get(a).has(b)) adj.get(a).set(b, via);
+    const old = adj.get(a).get(b);
+    if (old === undefined || (isResidual(old) && !isResidual(via))) adj.get(a).set(b, via);
   };
   for (let i = 0; i < data.links.length; i += 3) {
     const via = data.via[data.links[i + 2]];
@@ -224,7 +266,7 @@ async function graphOf(k) {
 }
 
 // The chain of `start` (README "Following a feature"; the breadth-first search of
-// trace_follow.cpp LinkGraph::Closure, step for step): [{entity, frame, via, from}] with
+// trace_follow.cpp LinkGraph::Closure, step for step; residual links are one-hop references): [{entity, frame, via, from}] with
 // per-frame entities by (frame, prefix, index), then landmarks.
 function closure(graph, start) {
   const BACK = 1, FORWARD = 2, BOTH = 3;
@@ -248,7 +290,7 @@ function closure(graph, start) {
     const next = graph.neighbours(e);
     if (!p.perFrame) {
       landmarksDone.add(e);
-      if (next) for (const [n, via] of next) visit(n, BOTH, via, e);
+      if (next) for (const [n, via] of next) visit(n, isResidual(via) ? 0 : BOTH, via, e);
       continue;
     }
     if (next) {
@@ -260,13 +302,13 @@ function closure(graph, start) {
           continue;
         }
         visit(n, 0, via, e);
-        if (landmarksDone.has(n)) continue;
+        if (isResidual(via) || landmarksDone.has(n)) continue;
         landmarksDone.add(n);
         const lm = graph.neighbours(n);
         if (lm) {
           for (const [other, via2] of lm) {
             const r = parseId(other);
-            if (r.perFrame) visit(other, towards(p.frame, r.frame, dir), via2, n);
+            if (r.perFrame) visit(other, isResidual(via2) ? 0 : towards(p.frame, r.frame, dir), via2, n);
           }
         }
       }
@@ -295,8 +337,7 @@ async function followHistory(k, id) {
   for (const f of [...frames].sort((a, b) => a - b)) {
     const data = await frameOf(k, f);
     if (!data) continue;
-    for (const row of data.records) {
-      if (!members.has(baseId(row[1]))) continue;
+    for (const row of data.columns.rows((e) => members.has(baseId(e)))) {
       const r = decode(summary, row);
       if (r.type !== 'count') rows.push({ frame: f, ...r });
     }
@@ -450,7 +491,7 @@ async function showEntity(id) {
 // The frame's features (OBS u, v) and line segments, for clicks on the image.
 function frameShapes(summary, data) {
   const features = [], lines = [];
-  for (const row of data.records) {
+  for (const row of allRows(data)) {
     const r = decode(summary, row);
     if (r.type === 'obs') features.push({ entity: r.entity, u: field(r, 'u'), v: field(r, 'v') });
     if (r.type === 'prob' && r.kind === 'line_sample' && field(r, 'in.x0') !== undefined)
@@ -483,7 +524,7 @@ function listFrameEntities(summary, data) {
   const box = $('frame-entities');
   box.innerHTML = '';
   const groups = { 'instance masks': new Set(), 'rejected features': new Set(), lines: new Set(), planes: new Set() };
-  for (const row of data.records) {
+  for (const row of allRows(data)) {
     const r = decode(summary, row);
     if (/^i\d+\.\d+$/.test(r.entity)) groups['instance masks'].add(r.entity);
     if (r.type === 'decision' && /^f\d+\.\d+$/.test(r.entity) && field(r, 'kept') === '0') groups['rejected features'].add(r.entity);
@@ -516,7 +557,7 @@ async function showFrame(index) {
   const data = await frameOf(S.run, frame);
   if (token !== S.showToken || !data) return;  // the slider moved on meanwhile
   const counts = {};
-  for (const row of data.records) {
+  for (const row of allRows(data)) {
     const r = decode(summary, row);
     counts[r.type] = (counts[r.type] || 0) + 1;
   }
