@@ -75,7 +75,10 @@ class LinkGraph {
   // (two features naming the same previous feature) do not join through their common ancestor.
   // A landmark (mp / ml / mpl) brings in every entity linked to it in every frame, each followed
   // on in the direction of its frame from the entity the landmark was first reached from (both
-  // ways when the landmark is the start). Residual links are one-hop references: the entity at
+  // ways when the landmark is the start) -- but only a landmark of the start's own track (entities
+  // reached from the start through previous-frame links): the landmarks of entities a landmark
+  // brought in join the chain without bringing in theirs, or the chain of a feature of a
+  // long-lived map point closes over most of the run. Residual links are one-hop references: the entity at
   // their other end joins the chain but is not searched from (a landmark reached only through a
   // residual brings in nothing; an entity reached only through one is not followed on). Masks
   // join every mask with the same instance id.
@@ -83,9 +86,12 @@ class LinkGraph {
     enum : int { kBack = 1, kForward = 2, kBoth = 3 };
     std::map<std::string, ChainEntry> seen;
     std::map<std::string, int> expanded;  // directions already searched from an entity
-    std::deque<std::pair<std::string, int>> queue;
+    std::deque<std::tuple<std::string, int, bool>> queue;  // entity, directions, on the start's track
     std::set<std::string> landmarks_done;  // landmarks whose entities have joined
-    const auto visit = [&](const std::string& e, int dir, const std::string& via, const std::string& from) {
+    // `core`: reached from the start through previous-frame links only (or an entity of the start
+    // landmark); only such an entity's landmarks bring in their entities. A core search of a
+    // direction also covers a non-core one: expanded holds dir | dir << 2 for core, dir otherwise.
+    const auto visit = [&](const std::string& e, int dir, const std::string& via, const std::string& from, bool core) {
       if (!seen.count(e)) {
         ChainEntry c;
         c.entity = e;
@@ -96,22 +102,23 @@ class LinkGraph {
         seen.emplace(e, std::move(c));
       }
       int& done = expanded[e];
-      if ((done | dir) == done) return;
-      done |= dir;
-      queue.emplace_back(e, dir);
+      const int mask = core ? dir | dir << 2 : dir;
+      if ((done | mask) == done) return;
+      done |= mask;
+      queue.emplace_back(e, dir, core);
     };
     // Direction of an entity in frame `to` reached from frame `from` (moving in `dir`).
     const auto towards = [](int64_t from, int64_t to, int dir) { return to < from ? kBack : to > from ? kForward : dir; };
-    visit(start, kBoth, "start", "");
+    visit(start, kBoth, "start", "", true);
     while (!queue.empty()) {
-      const auto [e, dir] = queue.front();
+      const auto [e, dir, core] = queue.front();
       queue.pop_front();
       const ParsedId p = ParseId(e);
       auto it = adjacency_.find(e);
       if (!p.per_frame) {  // a landmark as the start: all its entities, both ways
         landmarks_done.insert(e);
         if (it != adjacency_.end())
-          for (const auto& [next, via] : it->second) visit(next, IsResidualLink(via) ? 0 : kBoth, via, e);
+          for (const auto& [next, via] : it->second) visit(next, IsResidualLink(via) ? 0 : kBoth, via, e, true);
         continue;
       }
       if (it != adjacency_.end())
@@ -119,22 +126,22 @@ class LinkGraph {
           const ParsedId q = ParseId(next);
           if (q.per_frame) {  // a previous-frame link: only in this entity's direction
             const int d = towards(p.frame, q.frame, dir);
-            if (d & dir) visit(next, d, via, e);
+            if (d & dir) visit(next, d, via, e, core);
             continue;
           }
-          visit(next, 0, via, e);  // the landmark joins the chain, expanded once: from here
-          if (IsResidualLink(via) || !landmarks_done.insert(next).second) continue;
+          visit(next, 0, via, e, false);  // the landmark joins the chain, expanded once: from here
+          if (!core || IsResidualLink(via) || !landmarks_done.insert(next).second) continue;
           auto lm = adjacency_.find(next);
           if (lm != adjacency_.end())
             for (const auto& [other, via2] : lm->second) {
               const ParsedId r = ParseId(other);
-              if (r.per_frame) visit(other, IsResidualLink(via2) ? 0 : towards(p.frame, r.frame, dir), via2, next);
+              if (r.per_frame) visit(other, IsResidualLink(via2) ? 0 : towards(p.frame, r.frame, dir), via2, next, false);
             }
         }
       if (p.prefix == "i") {
         auto inst = instances_.find(p.index);
         if (inst != instances_.end())
-          for (const std::string& next : inst->second) visit(next, kBoth, "instance id", e);
+          for (const std::string& next : inst->second) visit(next, kBoth, "instance id", e, core);
       }
     }
   std::vector<ChainEntry> out;

@@ -7,6 +7,8 @@
 //   line samples   l0.0 - l1.0 (prev_index), l1.0 and l3.2 name map line ml3 (map_line input)
 //   masks          i0.2, i1.2, i3.2 (instance 2), i1.5 (instance 5)
 //   residual links kf3 = frame 1; mp70@kf3 and mp70@f6 with input feature 99: f1.99 - mp70 - f6.99
+//   two landmarks  f3.70 - mp90 - f5.70 - mp91 - f6.71 (map_point inputs): from f3.70, mp91 is a
+//                  landmark of an entity mp90 brought in, so it joins without bringing in f6.71
 #pragma once
 #include <string>
 
@@ -54,6 +56,11 @@ inline void WriteFollowTrace(const std::string& path) {
       w.ProbabilityUpdate("localba.obs", EntityKind::kFeature, "mp70@kf3", {{"feature", 99.0}}, 0.0, 0.0);
       w.ProbabilityUpdate("track.pose.obs", EntityKind::kFeature, "mp70@f6", {{"feature", 99.0}}, 0.0, 0.0);
     }
+    if (frame == 3 || frame == 5)  // f3.70 and f5.70 on mp90, f5.70 (another stage) and f6.71 on mp91
+      w.ProbabilityUpdate("mgd.inherit", EntityKind::kFeature, fid(frame, 70),
+                          {{"source", 2.0}, {"prev_index", -1.0}, {"map_point", 90.0}}, 0.0, 0.0);
+    if (frame == 5 || frame == 6)
+      w.ProbabilityUpdate("match.mnn2", EntityKind::kFeature, fid(frame, frame == 5 ? 70 : 71), {{"map_point", 91.0}}, 0.0, 0.0);
     if (frame == 1)  // a sibling of f1.11: another feature naming f0.10 as its previous feature
       w.ProbabilityUpdate("mgd.inherit", EntityKind::kFeature, "f1.50",
                           {{"source", 0.0}, {"prev_index", 10.0}, {"map_point", -1.0}}, 0.0, 0.0);

@@ -95,6 +95,11 @@ TEST_CASE("follow: line samples, masks through their instance id, residual links
   CHECK(RowEntities(res).count("mp70@kf3"));
   CHECK(ChainIds(CollectFollowHistory(r, "f6.99")) == std::vector<std::string>{"f6.99", "mp70"});
   CHECK(ChainIds(CollectFollowHistory(r, "mp70")) == std::vector<std::string>{"f1.99", "f6.99", "mp70"});
+  // Only the start's own track brings in a landmark's entities: from f3.70, mp90 brings in f5.70,
+  // whose second map point mp91 joins without bringing in f6.71; from f5.70 both do.
+  CHECK(ChainIds(CollectFollowHistory(r, "f3.70")) == std::vector<std::string>{"f3.70", "f5.70", "mp90", "mp91"});
+  CHECK(ChainIds(CollectFollowHistory(r, "f5.70")) ==
+        std::vector<std::string>{"f3.70", "f5.70", "f6.71", "mp90", "mp91"});
 }
 
 TEST_CASE("map point history (no --follow) includes the suppressed feature through associated_map_point_id") {

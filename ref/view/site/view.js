@@ -271,26 +271,28 @@ async function graphOf(k) {
 function closure(graph, start) {
   const BACK = 1, FORWARD = 2, BOTH = 3;
   const seen = new Map(), expanded = new Map(), landmarksDone = new Set(), queue = [];
-  const visit = (e, dir, via, from) => {
+  // core: on the start's own track (trace_follow.cpp Closure): only its landmarks bring in theirs.
+  const visit = (e, dir, via, from, core) => {
     if (!seen.has(e)) {
       const p = parseId(e);
       seen.set(e, { entity: e, frame: p.perFrame ? p.frame : -1, via, from });
     }
     const done = expanded.get(e) || 0;
     expanded.set(e, done);
-    if ((done | dir) === done) return;
-    expanded.set(e, done | dir);
-    queue.push([e, dir]);
+    const mask = core ? dir | (dir << 2) : dir;
+    if ((done | mask) === done) return;
+    expanded.set(e, done | mask);
+    queue.push([e, dir, core]);
   };
   const towards = (from, to, dir) => (to < from ? BACK : to > from ? FORWARD : dir);
-  visit(start, BOTH, 'start', '');
+  visit(start, BOTH, 'start', '', true);
   for (let qi = 0; qi < queue.length; ++qi) {
-    const [e, dir] = queue[qi];
+    const [e, dir, core] = queue[qi];
     const p = parseId(e);
     const next = graph.neighbours(e);
     if (!p.perFrame) {
       landmarksDone.add(e);
-      if (next) for (const [n, via] of next) visit(n, isResidual(via) ? 0 : BOTH, via, e);
+      if (next) for (const [n, via] of next) visit(n, isResidual(via) ? 0 : BOTH, via, e, true);
       continue;
     }
     if (next) {
@@ -298,23 +300,23 @@ function closure(graph, start) {
         const q = parseId(n);
         if (q.perFrame) {
           const d = towards(p.frame, q.frame, dir);
-          if (d & dir) visit(n, d, via, e);
+          if (d & dir) visit(n, d, via, e, core);
           continue;
         }
-        visit(n, 0, via, e);
-        if (isResidual(via) || landmarksDone.has(n)) continue;
+        visit(n, 0, via, e, false);
+        if (!core || isResidual(via) || landmarksDone.has(n)) continue;
         landmarksDone.add(n);
         const lm = graph.neighbours(n);
         if (lm) {
           for (const [other, via2] of lm) {
             const r = parseId(other);
-            if (r.perFrame) visit(other, isResidual(via2) ? 0 : towards(p.frame, r.frame, dir), via2, n);
+            if (r.perFrame) visit(other, isResidual(via2) ? 0 : towards(p.frame, r.frame, dir), via2, n, false);
           }
         }
       }
     }
     if (p.prefix === 'i' && graph.instances.has(p.index))
-      for (const n of graph.instances.get(p.index)) visit(n, BOTH, 'instance id', e);
+      for (const n of graph.instances.get(p.index)) visit(n, BOTH, 'instance id', e, core);
   }
   const key = (c) => { const p = parseId(c.entity); return [p.perFrame ? 0 : 1, p.frame, p.prefix, p.index, c.entity]; };
   const cmp = (a, b) => {
