@@ -6,6 +6,7 @@
 
 const S = { runs: [], run: 0, summary: {}, summaries: {}, packed: {}, links: {}, graphs: {}, frameIndex: 0, entity: '', scripts: {},
   cache: new Map(), showToken: 0, shapes: { features: [], lines: [] } };
+const TABLE_ROWS = 3000;  // history rows shown in the table (renderHistory)
 const CACHE_CHUNKS = 2;  // decoded data files (chunks of frames) kept: the page stays small on long runs
 const CARRIER = (stage) => stage === 'structure' || stage.startsWith('match.');
 const STAGE_COLOURS = ['#1f77b4', '#ff7f0e', '#2ca02c', '#d62728', '#9467bd', '#8c564b', '#e377c2', '#7f7f7f',
@@ -427,7 +428,9 @@ function renderHistory(history) {
   const div = divergenceOf(S.run);
   const table = document.createElement('table');
   table.innerHTML = '<tr><th>frame</th><th>type</th><th>stage</th><th>entity</th><th>before &rarr; after</th><th>fields</th></tr>';
-  for (const r of history.rows) {
+  // At most TABLE_ROWS rows in the table (a followed history reaches tens of thousands of records,
+  // and building their DOM took longer than decoding them); the selftest output keeps every row.
+  for (const r of history.rows.slice(0, TABLE_ROWS)) {
     const tr = document.createElement('tr');
     if (r.type === 'decision') tr.className = field(r, 'kept') === '1' ? 'decision-kept' : 'decision-rejected';
     if (div && div.frame === r.frame && div.entity === r.entity && div.stage === r.stage) tr.classList.add('diverges');
@@ -441,6 +444,9 @@ function renderHistory(history) {
   }
   $('history').innerHTML = '';
   $('history').appendChild(table);
+  if (history.rows.length > TABLE_ROWS)
+    $('history').insertAdjacentHTML('beforeend', `<p class="muted">first ${TABLE_ROWS} of ${history.rows.length} records shown ` +
+      '(all of them: <code>dynref trace feature</code>)</p>');
   const other = $('other-run');
   other.innerHTML = '';
   S.runs.forEach((run, k) => {
