@@ -31,7 +31,7 @@ std::string WithoutProvenance(const std::string& md) {
 
 }  // namespace
 
-TEST_CASE("reproduce claims writes the ledger; the committed CLAIMS.md matches the committed reports", "[cli]") {
+TEST_CASE("reproduce claims writes the ledger, and the committed CLAIMS.md matches the committed reports", "[cli]") {
   const std::string dir = CopyReportsForCli("claims_cli");
   const test::CommandResult r =
       test::RunDynref("reproduce claims --reports " + test::Quote(dir) + " --out " + test::Quote(dir + "/CLAIMS.md"));
