@@ -2,7 +2,7 @@
 # Every paper-table report of `dynref reproduce --list`, regenerated at one commit by the workflow
 # (`snakemake all`, workflow/Snakefile: headline tables at the papers' lengths over seeds 1-5,
 # ablations at 300 frames over seeds 1-3), then reports/README.md naming that commit, the matrix
-# and the total CPU and wall time (GNU time over snakemake and every job it ran), and the claims
+# and the total CPU and wall time (over snakemake and every job it ran, kept by scripts/cpu_heartbeat.py), and the claims
 # ledger reports/CLAIMS.md from the new reports. Issue 38.
 #
 #   bash scripts/regenerate-reports.sh              # -j 2, work folder dynref-work/tables
@@ -21,29 +21,34 @@ if [ -n "$(git status --porcelain --untracked-files=no)" ]; then
   exit 2
 fi
 command -v snakemake > /dev/null || { echo "regenerate-reports: needs snakemake (bash scripts/install-deps.sh --tests)" >&2; exit 2; }
-command -v /usr/bin/time > /dev/null || { echo "regenerate-reports: needs GNU time (apt-get install time)" >&2; exit 2; }
 bash scripts/build.sh dynref
 commit=$(git rev-parse --short=12 HEAD)
 built=$("$DYNREF" version | grep -o '[0-9a-f]\{12\}[+a-z]*' | head -1)
 [ "$built" = "$commit" ] || { echo "regenerate-reports: $DYNREF is $built, the tree is $commit" >&2; exit 2; }
 mkdir -p "$WORK"
 # One line per invocation (a regeneration stopped half way is resumed by running this again at the
-# same commit; the README sums the lines): start, commit, jobs, wall s, user s, sys s.
+# same commit; the README sums the lines): start, commit, jobs, wall s, user s, sys s, and
+# "complete" or "stopped". scripts/cpu_heartbeat.py keeps an invocation's time in $beat every 30 s
+# (its process tree from /proc), so one that is killed (a machine session ending) leaves its time,
+# short of at most 30 s: the next invocation appends it as "stopped".
 log="$WORK/regenerate-time.log"
+beat="$WORK/regenerate-time.running"
+if [ -f "$beat" ]; then cat "$beat" >> "$log" && rm -f "$beat"; fi
 if [ -f "$log" ] && ! awk -v c="$commit" '$2 != c { exit 1 }' "$log"; then
   echo "regenerate-reports: $log holds a run at another commit; remove it (or use another WORK)" >&2
   exit 2
 fi
-times="$WORK/time.txt"
 start=$(date -u +%Y-%m-%dT%H:%MZ)
 # --forcerun on every report (reproduce --list's third column): each is rewritten, even when its
 # runs are all current.
 reports=$("$DYNREF" reproduce --list | tail -n +2 | cut -f3)
-/usr/bin/time -f "%e %U %S" -o "$times" \
+status=0
+python3 scripts/cpu_heartbeat.py --out "$beat" --prefix "$start $commit $JOBS" -- \
   snakemake -s workflow/Snakefile -j "$JOBS" --rerun-incomplete ${SNAKEMAKE_ARGS:-} \
   --forcerun $reports \
-  --config dynref="$DYNREF" work="$WORK" reports=reports
-echo "$start $commit $JOBS $(cat "$times")" >> "$log"
+  --config dynref="$DYNREF" work="$WORK" reports=reports || status=$?
+cat "$beat" >> "$log" && rm -f "$beat"
+[ "$status" = 0 ] || { echo "regenerate-reports: snakemake failed ($status); its time is in $log" >&2; exit "$status"; }
 # The claims ledger reads the reports just written (reports/CLAIMS.md, issue 38 item 5).
 "$DYNREF" reproduce claims --out reports/CLAIMS.md --reports reports
 python3 scripts/reports_readme.py --time-log "$log" --config workflow/config.yaml --out reports/README.md

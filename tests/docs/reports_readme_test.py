@@ -32,13 +32,14 @@ def run(reports, log_lines):
 def main():
     ok = {"t1.md": "Written by dynref (dynref 0.1.0, commit abc123def456).\n",
           "t2.md": "Written (dynref 0.1.0 (abc123def456)).\n", "bench.md": "at dynref 0123456789ab\n"}
-    code, readme, err = run(ok, ["2026-11-28T01:00Z abc123def456 2 100 150 10",
-                                 "2026-11-29T01:00Z abc123def456 2 50 60 5"])
+    code, readme, err = run(ok, ["2026-11-28T01:00Z abc123def456 2 100 150 10 stopped",
+                                 "2026-11-29T01:00Z abc123def456 2 50 60 5 complete"])
     checks = [
         (code == 0, "exit 0 when every table names the commit: " + err),
         ("**abc123def456**" in readme, "names the commit"),
         ("**150 s wall, 225 s CPU**" in readme, "sums wall and CPU over the two invocations"),
         ("summed over 2 invocations" in readme, "says the run was resumed"),
+        ("1 of them ended with their machine session" in readme, "says one was stopped by its session"),
         ("| [t1](t1.md) | headline | papers' lengths (preset defaults) | 1,2,3,4,5 | abc123def456 |" in readme, "t1 row"),
         ("| [t2](t2.md) | ablation | 300 | 1,2,3 | abc123def456 |" in readme, "t2 row"),
         ("| [bench.md](bench.md) | 0123456789ab |" in readme, "other reports with their commit"),
