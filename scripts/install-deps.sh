@@ -11,6 +11,7 @@ PACKAGES=(
   libopencv-dev libopencv-contrib-dev  # images, ORB/FAST, LK, DNN (OpenCV 4.6)
   zlib1g-dev                 # dynref view: zlib literal (tests, size comparison; ref/view/packed.cpp)
   liblzma-dev                # dynref view: LZMA-compressed data files (ref/view/lzma_pack.cpp)
+  libdeflate-dev             # the sequences' PNG frames decoded ~2-3x faster than zlib (ref/io/png_decode.h)
   libpng-dev libjpeg-dev     # png.h / jpeglib.h: the executable keeps the codecs' messages (ref/cli/main.cpp)
   libceres-dev               # pose-only optimisation and local BA
   libopenimageio-dev         # off-screen overlays, montages, plots
