@@ -1,5 +1,6 @@
 #include "synth/scene_export.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "io/ply.h"
@@ -31,12 +32,20 @@ void SceneGeometryRecorder::AddFrame(const std::vector<DrawItem>& items, const s
   for (size_t k = 0; k < items.size() && k < moving.size(); ++k) item_ever_moved_[k] |= moving[k];
   instances_ever_moved_.insert(moving_ids.begin(), moving_ids.end());
   last_items_ = items;
+  std::unordered_set<int64_t>* keys = nullptr;
+  int last_instance = -1;
+  int64_t last_key = 0;
   for (int y = 0; y < depth_m.rows; y += 2)
     for (int x = 0; x < depth_m.cols; x += 2) {
       const float z = depth_m.at<float>(y, x);
       if (!(z > 0)) continue;
       const Eigen::Vector3d X_c((x - K.cx) * z / K.fx, (y - K.cy) * z / K.fy, z);
-      observed_[instance_ids.at<uint16_t>(y, x)].insert(VoxelKey(T_wc * X_c));
+      const int instance = instance_ids.at<uint16_t>(y, x);
+      const int64_t key = VoxelKey(T_wc * X_c);
+      if (instance == last_instance && key == last_key) continue;  // neighbours share a 2 cm voxel
+      if (instance != last_instance) keys = &observed_[instance];
+      keys->insert(key);
+      last_instance = instance, last_key = key;
     }
 }
 
@@ -55,9 +64,15 @@ void SceneGeometryRecorder::Write(const std::string& gt_dir) const {
   }
   WritePlyMesh(gt_dir + "/static_scene.ply", mesh,
                "dynref synth: draw items that never move in this sequence, world frame (z up), metres");
-  std::set<int64_t> still, movers;
-  for (const auto& [instance, keys] : observed_)
-    (instances_ever_moved_.count(instance) ? movers : still).insert(keys.begin(), keys.end());
+  std::vector<int64_t> still, movers;
+  for (const auto& [instance, keys] : observed_) {
+    std::vector<int64_t>& into = instances_ever_moved_.count(instance) ? movers : still;
+    into.insert(into.end(), keys.begin(), keys.end());
+  }
+  for (std::vector<int64_t>* keys : {&still, &movers}) {  // ascending and unique, as a std::set
+    std::sort(keys->begin(), keys->end());
+    keys->erase(std::unique(keys->begin(), keys->end()), keys->end());
+  }
   PointCloud a, b;
   for (int64_t k : still) a.push_back(VoxelCentre(k, 160, 160, 160));
   for (int64_t k : movers) b.push_back(VoxelCentre(k, 220, 40, 40));
