@@ -17,6 +17,35 @@ int PopCount64(uint64_t v) {
   return static_cast<int>((v * 0x0101010101010101ULL) >> 56);
 }
 
+// The same sums with the POPCNT instruction, compiled for it alone (the build keeps plain
+// x86-64) and chosen at run time: integer counts, so every CPU gives the same distances, the
+// ones with POPCNT (every x86-64 since ~2008) ~2x faster (DescriptorDistance was 7 % of orb).
+__attribute__((target("popcnt"))) int HammingPopcnt(const uint8_t* a, const uint8_t* b, int n_bytes) {
+  int dist = 0, i = 0;
+  for (; i + 8 <= n_bytes; i += 8) {
+    uint64_t x, y;
+    std::memcpy(&x, a + i, 8);
+    std::memcpy(&y, b + i, 8);
+    dist += __builtin_popcountll(x ^ y);
+  }
+  for (; i < n_bytes; ++i) dist += __builtin_popcount(static_cast<unsigned>(a[i] ^ b[i]));
+  return dist;
+}
+
+int HammingPortable(const uint8_t* a, const uint8_t* b, int n_bytes) {
+  int dist = 0, i = 0;
+  for (; i + 8 <= n_bytes; i += 8) {
+    uint64_t x, y;
+    std::memcpy(&x, a + i, 8);
+    std::memcpy(&y, b + i, 8);
+    dist += PopCount64(x ^ y);
+  }
+  for (; i < n_bytes; ++i) dist += PopCount64(static_cast<uint64_t>(a[i] ^ b[i]));
+  return dist;
+}
+
+const bool kHasPopcnt = __builtin_cpu_supports("popcnt");
+
 }  // namespace
 
 void DescriptorProfile::Check() const {
@@ -31,27 +60,15 @@ void DescriptorProfile::Check() const {
 }
 
 int DescriptorDistance(const uint8_t* a, const uint8_t* b) {
-  int dist = 0;
-  for (int i = 0; i < 32; i += 8) {
-    uint64_t x, y;
-    std::memcpy(&x, a + i, 8);
-    std::memcpy(&y, b + i, 8);
-    dist += PopCount64(x ^ y);
-  }
-  return dist;
+  return kHasPopcnt ? HammingPopcnt(a, b, 32) : HammingPortable(a, b, 32);
 }
 
 int HammingBits(const uint8_t* a, const uint8_t* b, int n_bytes) {
-  int dist = 0, i = 0;
-  for (; i + 8 <= n_bytes; i += 8) {
-    uint64_t x, y;
-    std::memcpy(&x, a + i, 8);
-    std::memcpy(&y, b + i, 8);
-    dist += PopCount64(x ^ y);
-  }
-  for (; i < n_bytes; ++i) dist += PopCount64(static_cast<uint64_t>(a[i] ^ b[i]));
-  return dist;
+  return kHasPopcnt ? HammingPopcnt(a, b, n_bytes) : HammingPortable(a, b, n_bytes);
 }
+
+// Both paths on the same bits (tests/features: a CPU without POPCNT must give these distances).
+int HammingBitsPortableForTest(const uint8_t* a, const uint8_t* b, int n_bytes) { return HammingPortable(a, b, n_bytes); }
 
 float SquaredL2(const float* a, const float* b, int n) {
   float s = 0;

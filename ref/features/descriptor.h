@@ -39,6 +39,8 @@ inline int DescriptorDistance(const cv::Mat& a, const cv::Mat& b) {
 }
 // Hamming distance of two n-byte strings.
 int HammingBits(const uint8_t* a, const uint8_t* b, int n_bytes);
+// HammingBits without the POPCNT instruction (what a CPU without it runs), for tests.
+int HammingBitsPortableForTest(const uint8_t* a, const uint8_t* b, int n_bytes);
 // Squared L2 of two n-float rows, summed in index order.
 float SquaredL2(const float* a, const float* b, int n);
 

@@ -6,18 +6,13 @@
 #include <stdexcept>
 
 #include "core/error.h"
+#include "features/descriptor.h"
 
 namespace dynref::place {
 
 int HammingDistance(const uint8_t* a, const uint8_t* b) {
-  int d = 0;
-  for (int i = 0; i < kDescriptorBytes; i += 8) {
-    uint64_t x, y;
-    std::memcpy(&x, a + i, 8);
-    std::memcpy(&y, b + i, 8);
-    d += __builtin_popcountll(x ^ y);
-  }
-  return d;
+  static_assert(kDescriptorBytes == 32, "ORB descriptors");
+  return features::DescriptorDistance(a, b);  // POPCNT where the CPU has it (features/descriptor.cpp)
 }
 
 int HammingDistance(const Descriptor& a, const Descriptor& b) { return HammingDistance(a.data(), b.data()); }

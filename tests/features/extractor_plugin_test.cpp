@@ -217,3 +217,22 @@ TEST_CASE("plugin: a missing or broken ONNX model is an error naming the file") 
   o.type = "surf";
   CHECK_THROWS_AS(MakeExtractor(o), InputError);
 }
+
+TEST_CASE("descriptor distances: the POPCNT path and the portable one count the same bits as a bit loop", "[features]") {
+  uint32_t state = 7;
+  std::vector<uint8_t> a(64), b(64);
+  for (int trial = 0; trial < 200; ++trial) {
+    for (size_t i = 0; i < a.size(); ++i) {
+      state = state * 1664525u + 1013904223u;
+      a[i] = static_cast<uint8_t>(state >> 24), b[i] = static_cast<uint8_t>(state >> 16);
+    }
+    for (int n = 1; n <= 64; ++n) {
+      int bits = 0;
+      for (int i = 0; i < n; ++i)
+        for (int k = 0; k < 8; ++k) bits += ((a[i] ^ b[i]) >> k) & 1;
+      REQUIRE(HammingBits(a.data(), b.data(), n) == bits);
+      REQUIRE(dynref::features::HammingBitsPortableForTest(a.data(), b.data(), n) == bits);
+      if (n == 32) REQUIRE(DescriptorDistance(a.data(), b.data()) == bits);
+    }
+  }
+}
