@@ -27,6 +27,9 @@ void RegisterViewCommand(CLI::App& root, CommandList& out) {
   app->add_option("--chunk-frames", options->chunk_frames,
                   "Frames per data file, 1..1000 (default 30: one LZMA stream each, smaller than fewer; the page decodes "
                   "a whole file to show one of its frames)");
+  app->add_option("--threads", options->threads,
+                  "Threads compressing the data files (LZMA is most of the time; the site's bytes are the same for "
+                  "every N; default 1)");
   app->footer("Exit 0: site written. Exit 2: bad input (a run without trace, an existing folder not written by dynref view).");
   out.push_back({app, [options] {
                    options->progress = ::isatty(STDERR_FILENO) != 0;

@@ -1,5 +1,6 @@
 #include "view/site_data.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -7,6 +8,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/parallel.h"
 #include "eval/trajectory_eval.h"
 #include "io/trajectory.h"
 #include "trace/trace_feature.h"
@@ -93,30 +95,58 @@ std::string LzmaScript(const std::string& call, const json& args, const std::str
 
 // K frame groups in one file OUT/data/r<k>/c<n>.js: `VIEW.chunkZ(k, n, [head...], packed)` with
 // packed the LZMA stream of the JSON array of the frames' columns (LZMA's window spans the chunk,
-// where zlib's 32 KB held less than one frame: README.md "Size").
+// where zlib's 32 KB held less than one frame: README.md "Size"). LZMA (preset 9e) is most of
+// `dynref view`'s time, so complete chunks wait in a batch that `threads` threads compress at once
+// (core/parallel.h); each file's bytes are those of one thread.
 class ChunkWriter {
  public:
-  ChunkWriter(std::string dir, int k, int per_chunk) : dir_(std::move(dir)), k_(k), per_chunk_(per_chunk) {}
+  ChunkWriter(std::string dir, int k, int per_chunk, int threads)
+      : dir_(std::move(dir)), k_(k), per_chunk_(per_chunk), threads_(std::max(1, threads)) {}
   uint64_t Add(const json& head, const json& columns) {
     heads_.push_back(head);
     text_ += text_.empty() ? "[" : ",";
     text_ += columns.dump();
-    return heads_.size() == static_cast<size_t>(per_chunk_) ? Flush() : 0;
+    if (heads_.size() < static_cast<size_t>(per_chunk_)) return 0;
+    Close();
+    return pending_.size() >= static_cast<size_t>(2 * threads_) ? WritePending() : 0;
   }
   uint64_t Flush() {
-    if (heads_.empty()) return 0;
-    const std::string script = LzmaScript("VIEW.chunkZ", json::array({k_, chunk_, heads_}), text_ + "]");
-    AtomicWriteFile(dir_ + "/c" + std::to_string(chunk_++) + ".js", script);
-    heads_ = json::array();
-    text_.clear();
-    return script.size();
+    Close();
+    return WritePending();
   }
 
  private:
+  struct Pending {
+    int chunk;
+    json heads;
+    std::string text;
+  };
+  void Close() {
+    if (heads_.empty()) return;
+    pending_.push_back({chunk_++, heads_, text_ + "]"});
+    heads_ = json::array();
+    text_.clear();
+  }
+  uint64_t WritePending() {
+    std::vector<std::string> scripts(pending_.size());
+    ParallelFor(static_cast<int>(pending_.size()), threads_, [&](int i) {
+      const Pending& p = pending_[static_cast<size_t>(i)];
+      scripts[static_cast<size_t>(i)] = LzmaScript("VIEW.chunkZ", json::array({k_, p.chunk, p.heads}), p.text);
+    });
+    uint64_t bytes = 0;
+    for (size_t i = 0; i < pending_.size(); ++i) {
+      AtomicWriteFile(dir_ + "/c" + std::to_string(pending_[i].chunk) + ".js", scripts[i]);
+      bytes += scripts[i].size();
+    }
+    pending_.clear();
+    return bytes;
+  }
+
   std::string dir_;
-  int k_, per_chunk_, chunk_ = 0;
+  int k_, per_chunk_, threads_, chunk_ = 0;
   json heads_ = json::array();
   std::string text_;
+  std::vector<Pending> pending_;
 };
 
 // Trajectory against ground truth (synthetic or TUM folder): aligned positions and ATE per pose.
@@ -206,7 +236,7 @@ RunSite WriteRunData(const std::string& run_dir, int k, const std::string& out_d
   std::map<std::string, std::vector<int64_t>> links;  // entity -> frames of other groups with its records
   std::map<std::string, json> counts;                 // "stage.name" -> [[frame, value]...]
   json frames = json::array(), stamps = json::array();
-  ChunkWriter chunks(dir, k, options.chunk_frames);
+  ChunkWriter chunks(dir, k, options.chunk_frames, options.threads);
   for (size_t g = 0; g < reader.groups().size(); ++g) {
     const std::vector<trace::Record> raw = reader.ReadGroup(g);
     const std::vector<trace::FlatRecord> recs = trace::FlattenGroup(raw);

@@ -25,6 +25,7 @@ struct DataOptions {
   int digits = 6;            // significant digits of the numbers written (17: exact)
   double image_scale = 0.5;  // overlay images' scale (the page maps clicks back to pixels)
   int chunk_frames = 30;     // frame groups per data file c<n>.js (one LZMA stream; README.md "Size")
+  int threads = 1;           // chunks compressed at once (core/parallel.h: the same bytes for every N)
 };
 
 // Writes OUT/data/r<k>/summary.js, OUT/data/r<k>/links.js (the links of `trace feature --follow`) and OUT/data/r<k>/c<n>.js for every

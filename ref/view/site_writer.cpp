@@ -91,6 +91,7 @@ void ViewOptions::Check() const {
   if (!(image_scale >= 0.1 && image_scale <= 1.0)) throw InputError("--image-scale", "must be 0.1..1");
   if (digits < 1 || digits > 17) throw InputError("--digits", "must be 1..17");
   if (chunk_frames < 1 || chunk_frames > 1000) throw InputError("--chunk-frames", "must be 1..1000");
+  if (threads < 1 || threads > 64) throw InputError("--threads", "must be 1..64");
   for (const std::string& r : runs)
     if (!fs::exists(trace::ResolveTracePath(r))) throw InputError(r, "no trace.dtr (run with --trace full)");
   if (fs::exists(out_dir) && !fs::is_empty(out_dir) && !fs::exists(out_dir + "/" + kMarker))
@@ -112,7 +113,7 @@ ViewResult WriteSite(const ViewOptions& options) {
       if (options.overlays) images = RenderImages(run, static_cast<int>(k), tmp, options);
       const std::string divergence =
           k == 0 || !SameMethod(options.runs[0], run) ? "" : FirstDivergence(options.runs[0], run);
-      const DataOptions data{options.digits, options.image_scale, options.chunk_frames};
+      const DataOptions data{options.digits, options.image_scale, options.chunk_frames, options.threads};
       const RunSite site = WriteRunData(run, static_cast<int>(k), tmp, data, images, divergence);
       result.frames += static_cast<int64_t>(site.frames.size());
       result.images += static_cast<int64_t>(images.size());

@@ -19,6 +19,7 @@ struct ViewOptions {
   double image_scale = 0.5;       // overlay JPEG size relative to the frame (0.1..1)
   int digits = 6;                 // significant digits of the numbers in the data files (1..17; 17 exact)
   int chunk_frames = 30;          // frames per data file (one LZMA stream; 1..1000)
+  int threads = 1;                // threads compressing data files (the same bytes for every N; 1..64)
   bool progress = false;          // frame i/N on stderr
   void Check() const;             // InputError naming the bad option
 };

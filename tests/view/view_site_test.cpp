@@ -153,6 +153,19 @@ TEST_CASE("view end to end: golden mgd_30f mp34's history in Chromium equals dyn
     CHECK(fs::exists(dir + "/site7/data/r0/c4.js"));
     CHECK_FALSE(fs::exists(dir + "/site7/data/r0/c5.js"));
     CheckSameHistory(cli, PageHistory(dir + "/site7", "entity=mp34&follow=0", dir));
+    // --threads 3 compresses the 5 chunks at once (site_data.cpp ChunkWriter): every file the same.
+    const auto t3 = RunDynref("view " + Quote(golden) + " --digits 17 --no-overlays --chunk-frames 7 --threads 3 --out " +
+                              Quote(dir + "/site7t"));
+    REQUIRE(t3.exit_code == 0);
+    int files = 0;
+    for (const auto& e : fs::recursive_directory_iterator(dir + "/site7")) {
+      if (!e.is_regular_file()) continue;
+      const std::string rel = fs::relative(e.path(), dir + "/site7").string();
+      INFO(rel);
+      CHECK(dynref::test::ReadFileBytes(e.path().string()) == dynref::test::ReadFileBytes(dir + "/site7t/" + rel));
+      ++files;
+    }
+    CHECK(files >= 8);  // index, scripts, summary, links, 5 chunks
   }
 
   SECTION("the followed chain of the suppressed feature equals trace feature --follow, link for link") {
