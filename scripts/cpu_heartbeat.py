@@ -8,13 +8,16 @@ Every --every seconds FILE is rewritten (atomically) with one line:
 where USER_S / SYS_S sum the process tree of CMD: for every live descendant its own time plus the
 time of the children it has reaped (/proc/PID/stat fields utime, stime, cutime, cstime), so no
 second is counted twice. When CMD ends, the last line holds getrusage(RUSAGE_CHILDREN), which is
-exact, and ends with "complete". A regeneration that its machine's session kills (issue 38: a
-stop's processes end with the stop) thus leaves its time to at most --every seconds; the caller
-appends FILE to its time log. Exit status: CMD's.
+exact, and ends with "complete" (CMD exited 0) or "stopped" (it did not). A regeneration that its
+machine's session kills (issue 38: a stop's processes end with the stop) thus leaves its time to at
+most --every seconds; the caller appends FILE to its time log. SIGTERM / SIGINT are passed on to
+CMD (snakemake then ends its jobs), and the line written when it has ended is exact: that is how
+scripts/regen-checkpoint.py stops a regeneration before it saves it. Exit status: CMD's.
 """
 import argparse
 import os
 import resource
+import signal
 import subprocess
 import sys
 import time
@@ -70,6 +73,12 @@ def main():
         ap.error("no command after --")
     t0 = time.monotonic()
     child = subprocess.Popen(cmd)
+
+    def pass_on(signum, _frame):
+        child.send_signal(signum)
+
+    signal.signal(signal.SIGTERM, pass_on)
+    signal.signal(signal.SIGINT, pass_on)
     while True:
         try:
             rc = child.wait(timeout=a.every)
@@ -78,7 +87,8 @@ def main():
             user, system = tree_cpu(child.pid)
             write(a.out, "%s %.1f %.2f %.2f stopped" % (a.prefix, time.monotonic() - t0, user, system))
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
-    write(a.out, "%s %.1f %.2f %.2f complete" % (a.prefix, time.monotonic() - t0, usage.ru_utime, usage.ru_stime))
+    write(a.out, "%s %.1f %.2f %.2f %s" % (a.prefix, time.monotonic() - t0, usage.ru_utime, usage.ru_stime,
+                                            "complete" if rc == 0 else "stopped"))
     return rc
 
 

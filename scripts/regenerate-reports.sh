@@ -11,6 +11,9 @@
 #
 # Refuses a tree with uncommitted changes (a report must name a commit that holds its code); the
 # work folder is kept, so a run stopped half way resumes where it stopped (snakemake's own rule).
+# Across machine sessions (the whole regeneration outlasts one): scripts/regen-checkpoint.py save
+# --stop before the session ends, and restore into an empty work folder at the same commit in the
+# next one (workflow/README.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 JOBS=${JOBS:-2}
@@ -39,16 +42,30 @@ if [ -f "$log" ] && ! awk -v c="$commit" '$2 != c { exit 1 }' "$log"; then
   exit 2
 fi
 start=$(date -u +%Y-%m-%dT%H:%MZ)
-# --forcerun on every report (reproduce --list's third column): each is rewritten, even when its
-# runs are all current.
-reports=$("$DYNREF" reproduce --list | tail -n +2 | cut -f3)
+# The reports are written into $WORK/reports first (so a checkpoint carries them to the next
+# session) and copied into reports/ when every one is written. --forcerun on every report
+# (reproduce --list's third column) not yet written by this regeneration: each is rewritten at this
+# commit, even when its runs are all current, and only once.
+made="$WORK/reports"
+mkdir -p "$made"
+reports=""
+for r in $("$DYNREF" reproduce --list | tail -n +2 | cut -f3); do
+  [ -f "$made/$(basename "$r")" ] || reports="$reports $made/$(basename "$r")"
+done
 status=0
+# The heartbeat's pid in $WORK/regenerate.pid: scripts/regen-checkpoint.py save --stop ends the
+# regeneration through it (SIGTERM, passed on to snakemake) before a machine session ends.
 python3 scripts/cpu_heartbeat.py --out "$beat" --prefix "$start $commit $JOBS" -- \
   snakemake -s workflow/Snakefile -j "$JOBS" --rerun-incomplete ${SNAKEMAKE_ARGS:-} \
-  --forcerun $reports \
-  --config dynref="$DYNREF" work="$WORK" reports=reports || status=$?
+  ${reports:+--forcerun $reports} \
+  --config dynref="$DYNREF" work="$WORK" reports="$made" &
+heartbeat=$!
+echo "$heartbeat" > "$WORK/regenerate.pid"
+wait "$heartbeat" || status=$?
+rm -f "$WORK/regenerate.pid"
 cat "$beat" >> "$log" && rm -f "$beat"
 [ "$status" = 0 ] || { echo "regenerate-reports: snakemake failed ($status); its time is in $log" >&2; exit "$status"; }
+cp -p "$made"/* reports/
 # The claims ledger reads the reports just written (reports/CLAIMS.md, issue 38 item 5).
 "$DYNREF" reproduce claims --out reports/CLAIMS.md --reports reports
 python3 scripts/reports_readme.py --time-log "$log" --config workflow/config.yaml --out reports/README.md

@@ -29,8 +29,9 @@ def resumed(runs):
     stopped = sum(1 for r in runs if len(r) > 6 and r[6] == "stopped")
     text = ", summed over %d invocations: the run was stopped and resumed" % len(runs)
     if stopped:
-        text += ("; %d of them ended with their machine session, their time from the last 30 s heartbeat over"
-                 " the process tree" % stopped)
+        text += ("; %d of them were stopped before the end (a checkpoint carrying the regeneration into the next"
+                 " machine session, scripts/regen-checkpoint.py, or the session's end, when their time is the"
+                 " last 30 s heartbeat over the process tree)" % stopped)
     return text
 
 

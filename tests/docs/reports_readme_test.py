@@ -39,7 +39,7 @@ def main():
         ("**abc123def456**" in readme, "names the commit"),
         ("**150 s wall, 225 s CPU**" in readme, "sums wall and CPU over the two invocations"),
         ("summed over 2 invocations" in readme, "says the run was resumed"),
-        ("1 of them ended with their machine session" in readme, "says one was stopped by its session"),
+        ("1 of them were stopped before the end" in readme, "says one was stopped before the end"),
         ("| [t1](t1.md) | headline | papers' lengths (preset defaults) | 1,2,3,4,5 | abc123def456 |" in readme, "t1 row"),
         ("| [t2](t2.md) | ablation | 300 | 1,2,3 | abc123def456 |" in readme, "t2 row"),
         ("| [bench.md](bench.md) | 0123456789ab |" in readme, "other reports with their commit"),

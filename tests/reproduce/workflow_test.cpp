@@ -117,3 +117,69 @@ TEST_CASE("workflow: the Slurm profile's dry run writes every table of reproduce
   // A headline table's seed job prunes its sequences' images once its runs are counted.
   CHECK(r.output.find("mgd-table2/seed1.md > " + dir + "/w/logs/table/mgd-table2_seed1.log 2>&1; for y in") != std::string::npos);
 }
+
+TEST_CASE("workflow: a regeneration checkpointed and restored in an empty work folder writes the same reports, runs reused",
+          "[cli][slow]") {
+  // scripts/regen-checkpoint.py (issue 38: the regeneration outlasts a machine session, whose end
+  // takes its disk), with the reports in WORK/reports as scripts/regenerate-reports.sh writes them.
+  // The session ends when mgd-table4's report is written and mgd-table2's seed 2 job is not done;
+  // mgd-table2 prunes its sequences' images after each seed job. tests/docs/regen_checkpoint_test.py
+  // covers restore's other cases (a table that keeps its images, not yet reported).
+  const std::string snake = Snakemake();
+  const std::string dir = test::ScratchDir("workflow_checkpoint");
+  const std::string src = test::Quote(test::SourcePath(""));
+  const std::string checkpoint = "python3 " + src + "/scripts/regen-checkpoint.py ";
+  const std::string work = dir + "/work";
+  const auto snakemake = [&]() {
+    return test::RunShell("cd " + src + " && " + snake + " -s workflow/Snakefile -d " + dir + "/snake -j 2 --quiet" +
+                          " --rerun-incomplete --config dynref=" + test::DynrefExe() + " work=" + work + " reports=" + work +
+                          "/reports headline_frames=45 ablation_frames=45 'headline_seeds=[1,2]' 'ablation_seeds=[1]'"
+                          " 'tables=[mgd-table2,mgd-table4]'"
+                          " 'table_args={mgd-table2: --no-ablations --sequences walking_xyz, mgd-table4: --sequences walking_xyz}'"
+                          " 2>&1");
+  };
+  const test::CommandResult a = snakemake();
+  INFO(a.output);
+  REQUIRE(a.exit_code == 0);
+  const std::string report2 = test::ReadFileBytes(work + "/reports/mgd-table2.md");
+  REQUIRE(test::RunShell("rm " + work + "/mgd-table2/seed2.done " + work + "/reports/mgd-table2.md").exit_code == 0);
+  const test::CommandResult saved = test::RunShell(checkpoint + "save --work " + work + " --state " + dir + "/state 2>&1");
+  INFO(saved.output);
+  REQUIRE(saved.exit_code == 0);
+  // No images and no full traces in it; the runs' results and the written report are.
+  const test::CommandResult listing = test::RunShell("tar -tJf " + dir + "/state/part-001.tar.xz");
+  CHECK(listing.output.find("/rgb/") == std::string::npos);
+  CHECK(listing.output.find("/depth/") == std::string::npos);
+  CHECK(listing.output.find("trace.dtr") == std::string::npos);
+  CHECK(listing.output.find("mgd-table2/seed1/runs/walking_xyz/mgd/trajectory.txt") != std::string::npos);
+  CHECK(listing.output.find("reports/mgd-table4.md") != std::string::npos);
+
+  // The next session: the same path (a run records its sequence's absolute path), empty.
+  REQUIRE(test::RunShell("mv " + work + " " + dir + "/work.before").exit_code == 0);
+  const test::CommandResult restored = test::RunShell(checkpoint + "restore --work " + work + " --state " + dir + "/state 2>&1");
+  INFO(restored.output);
+  REQUIRE(restored.exit_code == 0);
+  CHECK(test::FileExists(work + "/mgd-table2/seed1.done"));  // pruned table, finished: its report reads no image
+  CHECK(test::FileExists(work + "/mgd-table4/seed1.done"));  // its report is written: nothing of it runs again
+  const test::CommandResult b = snakemake();
+  INFO(b.output);
+  REQUIRE(b.exit_code == 0);
+  CHECK(test::ReadFileBytes(work + "/reports/mgd-table2.md") == report2);
+  // Only mgd-table2's seed 2 ran again: it synthesised its sequence and reused every run.
+  const std::string log = test::ReadFileBytes(work + "/logs/table/mgd-table2_seed2.log");
+  CHECK(log.find("reproduce: synth") != std::string::npos);
+  CHECK(log.find("reproduce: run") == std::string::npos);
+  CHECK(!test::FileExists(work + "/logs/table/mgd-table2_seed1.log"));
+  CHECK(!test::FileExists(work + "/logs/table/mgd-table4_seed1.log"));
+
+  SECTION("save after a restore packs only what is new, and restore refuses a folder that is not empty") {
+    REQUIRE(test::RunShell(checkpoint + "save --work " + work + " --state " + dir + "/state 2>&1").exit_code == 0);
+    const test::CommandResult second = test::RunShell("tar -tJf " + dir + "/state/part-002.tar.xz");
+    CHECK(second.output.find("mgd-table2/seed2.done") != std::string::npos);
+    CHECK(second.output.find("reports/mgd-table2.md") != std::string::npos);
+    CHECK(second.output.find("mgd-table2/seed1/runs/walking_xyz/mgd/trajectory.txt") == std::string::npos);
+    const test::CommandResult again = test::RunShell(checkpoint + "restore --work " + work + " --state " + dir + "/state 2>&1");
+    CHECK(again.exit_code == 2);
+    CHECK(again.output.find("is not empty") != std::string::npos);
+  }
+}

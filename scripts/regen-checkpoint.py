@@ -1,0 +1,190 @@
+#!/usr/bin/env python3
+"""Carry a regeneration of every report (scripts/regenerate-reports.sh) across machine sessions.
+
+The full regeneration at the papers' lengths takes ~30 CPU hours, more than a machine session of
+this project lasts, and a session's end takes its processes and its disk with it. A checkpoint
+keeps what the next session cannot make again cheaply: every run's results (trajectory, run.json,
+the cached precision/recall counts, the reuse markers), every sequence's small files (synth.yaml,
+ground truth, detections), the seed jobs' reports and `.done` files and the time log. It leaves out
+what is large and made again identically when needed: the sequences' images (rgb/, depth/, and the
+per-frame ground-truth masks), which a seed job synthesises again (same bytes, same commit), and
+the full traces, which the runs' cached counts replace.
+
+    regen-checkpoint.py save    --work WORK --state DIR [--stop]
+    regen-checkpoint.py restore --work WORK --state DIR [--config workflow/config.yaml]
+
+save writes DIR/part-NNN.tar.xz with the files written since the last restore (all files the first
+time); --stop first stops a running regeneration (SIGTERM to its heartbeat, whose pid is in
+WORK/regenerate.pid: snakemake ends its jobs and the time log gets an exact 'stopped' line).
+restore unpacks every part in order into an empty WORK (the same path as the saved one: a run
+records its sequence's absolute path, and --collect checks it) and then makes the work folder
+consistent for `snakemake --rerun-incomplete`: a sequence without its images is removed (its seed
+job synthesises it again and reuses its runs) except where a finished seed job of an image-pruned
+table (workflow/config.yaml prune_images) left it so on purpose, or the table's reports are
+already written (WORK/reports, scripts/regenerate-reports.sh); a finished seed job of any other
+table loses its `.done`, since its report reads the images (it runs again: synthesis, runs reused).
+"""
+import argparse
+import os
+import signal
+import subprocess
+import sys
+import time
+
+# Directories of a sequence that a checkpoint leaves out (re-synthesised when needed).
+IMAGE_DIRS = ("rgb", "depth", "motion", "instances", "masks")
+STAMP = ".restored"  # WORK/.restored: files newer than it are this session's
+
+
+def fail(msg):
+    print("regen-checkpoint: " + msg, file=sys.stderr)
+    sys.exit(2)
+
+
+def is_left_out(rel):
+    parts = rel.split(os.sep)
+    if parts[-1] in ("trace.dtr", "regenerate.pid", STAMP) or parts[0] == "logs":
+        return True
+    # <table>/seed<S>/seq/<preset>/<image dir>/...  (and gt/<image dir>/...)
+    if "seq" in parts:
+        below = parts[parts.index("seq") + 2:]
+        return any(p in IMAGE_DIRS for p in below[:-1])
+    return False
+
+
+def alive(pid):
+    """The process runs (a zombie has ended: its parent has only not reaped it yet)."""
+    try:
+        with open("/proc/%d/stat" % pid) as f:
+            text = f.read()
+    except OSError:
+        return False
+    return text[text.rindex(")") + 2] != "Z"
+
+
+def stop(work):
+    pid_file = os.path.join(work, "regenerate.pid")
+    if not os.path.exists(pid_file):
+        return
+    pid = int(open(pid_file).read().split()[0])
+    try:
+        os.kill(pid, signal.SIGTERM)
+    except ProcessLookupError:
+        return
+    print("regen-checkpoint: stopping the regeneration (heartbeat pid %d)" % pid, file=sys.stderr)
+    for _ in range(1200):  # snakemake ends its jobs; at most 10 minutes
+        if not alive(pid):
+            break
+        time.sleep(0.5)
+    else:
+        fail("pid %d did not stop within 10 minutes" % pid)
+    time.sleep(1)  # regenerate-reports.sh moves the heartbeat's last line into the time log
+
+
+def save(work, state, stop_first):
+    if not os.path.isdir(work):
+        fail("%s: no work folder" % work)
+    if stop_first:
+        stop(work)
+    stamp = os.path.join(work, STAMP)
+    since = os.path.getmtime(stamp) if os.path.exists(stamp) else None
+    files = []
+    for root, dirs, names in os.walk(work):
+        dirs.sort()
+        for name in sorted(names):
+            path = os.path.join(root, name)
+            rel = os.path.relpath(path, work)
+            if os.path.islink(path) or is_left_out(rel):
+                continue
+            if since is None or os.path.getmtime(path) > since:
+                files.append(rel)
+    os.makedirs(state, exist_ok=True)
+    parts = sorted(p for p in os.listdir(state) if p.startswith("part-") and p.endswith(".tar.xz"))
+    name = "part-%03d.tar.xz" % (len(parts) + 1)
+    if not files:
+        print("regen-checkpoint: nothing new in %s" % work, file=sys.stderr)
+        return
+    tmp = os.path.join(state, name + ".tmp")
+    listing = "\n".join(files) + "\n"
+    subprocess.run(["tar", "-C", work, "--sort=name", "--owner=0", "--group=0", "--numeric-owner",
+                    "-cJf", tmp, "--verbatim-files-from", "-T", "-"], input=listing.encode(), check=True)
+    os.replace(tmp, os.path.join(state, name))
+    print("regen-checkpoint: %s/%s: %d files, %.1f MB" % (state, name, len(files),
+                                                          os.path.getsize(os.path.join(state, name)) / 1e6),
+          file=sys.stderr)
+
+
+def work_folders(config, work):
+    """Work folders whose seed jobs prune their sequences' images (as workflow/Snakefile decides),
+    and those whose every report this regeneration has written (WORK/reports/<table>.md)."""
+    import yaml  # python3-yaml, a dependency of snakemake
+
+    c = yaml.safe_load(open(config))
+    prune = set(c.get("prune_images", []))
+    sgdo_main = ["sgdo-table1", "sgdo-table2", "sgdo-table3", "sgdo-table4", "sgdo-table7"]
+    tables_of = {}
+    for t in c["tables"]:
+        tables_of.setdefault("sgdo-main" if t in sgdo_main else t, []).append(t)
+    pruned = {w for w, ts in tables_of.items() if ts[0] in prune}
+    reported = {w for w, ts in tables_of.items()
+                if all(os.path.exists(os.path.join(work, "reports", t + ".md")) for t in ts)}
+    return pruned, reported
+
+
+def restore(work, state, config):
+    parts = sorted(p for p in os.listdir(state) if p.startswith("part-") and p.endswith(".tar.xz"))
+    if not parts:
+        fail("%s: no part-NNN.tar.xz" % state)
+    if os.path.exists(work) and os.listdir(work):
+        fail("%s is not empty: restore unpacks into an empty work folder" % work)
+    os.makedirs(work, exist_ok=True)
+    for p in parts:
+        subprocess.run(["tar", "-C", work, "-xJf", os.path.join(state, p)], check=True)
+    pruned, reported = work_folders(config, work)
+    removed_seq = undone = 0
+    for table in sorted(os.listdir(work)):
+        tdir = os.path.join(work, table)
+        if not os.path.isdir(tdir) or table == "logs":
+            continue
+        for seed in sorted(os.listdir(tdir)):
+            sdir = os.path.join(tdir, seed)
+            if not (seed.startswith("seed") and os.path.isdir(sdir)):
+                continue
+            done = sdir + ".done"
+            # finished and not needing its images again: a pruned table's seed, or any seed of a
+            # table whose reports are all written (snakemake runs none of its jobs again)
+            keep_pruned = os.path.exists(done) and (table in pruned or table in reported)
+            if os.path.exists(done) and not keep_pruned:
+                os.remove(done)
+                undone += 1
+            for root, dirs, _ in os.walk(sdir):
+                dirs.sort()
+                if os.path.basename(os.path.dirname(root)) == "seq" and os.path.exists(os.path.join(root, "synth.yaml")):
+                    dirs[:] = []
+                    if not keep_pruned and not os.path.isdir(os.path.join(root, "rgb")):
+                        subprocess.run(["rm", "-rf", root], check=True)
+                        removed_seq += 1
+    with open(os.path.join(work, STAMP), "w") as f:
+        f.write("restored from %s (%d parts)\n" % (state, len(parts)))
+    time.sleep(1.1)  # this session's files are newer than the stamp on second-resolution file systems
+    print("regen-checkpoint: %s restored from %d parts; %d sequences to synthesise again, %d seed jobs to run"
+          " again (their reports read images)" % (work, len(parts), removed_seq, undone), file=sys.stderr)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("action", choices=["save", "restore"])
+    ap.add_argument("--work", required=True)
+    ap.add_argument("--state", required=True, help="folder of part-NNN.tar.xz")
+    ap.add_argument("--stop", action="store_true", help="save: stop a running regeneration first")
+    ap.add_argument("--config", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "..",
+                                                     "workflow", "config.yaml"))
+    a = ap.parse_args()
+    if a.action == "save":
+        save(a.work, a.state, a.stop)
+    else:
+        restore(a.work, a.state, a.config)
+
+
+if __name__ == "__main__":
+    main()
