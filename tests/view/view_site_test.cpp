@@ -144,6 +144,8 @@ TEST_CASE("view end to end: golden mgd_30f mp34's history in Chromium equals dyn
   CHECK(!suppressed.empty());
   const nlohmann::json page = PageHistory(dir + "/site", "entity=mp34&follow=0", dir);
   CheckSameHistory(cli, page);
+  // The data files were decoded by the page's workers (view.js unlzmaOffThread), not by the page.
+  CHECK(page.value("decoder", "") == "worker");
 
   SECTION("data files of 7 frames (chunk boundaries inside mp34's frames): the same history") {
     // 30 frames in files of 7: frames 0-6, 7-13, ..., 28-29; the page must find each frame's
@@ -152,7 +154,10 @@ TEST_CASE("view end to end: golden mgd_30f mp34's history in Chromium equals dyn
     REQUIRE(v7.exit_code == 0);
     CHECK(fs::exists(dir + "/site7/data/r0/c4.js"));
     CHECK_FALSE(fs::exists(dir + "/site7/data/r0/c5.js"));
-    CheckSameHistory(cli, PageHistory(dir + "/site7", "entity=mp34&follow=0", dir));
+    // Five data files: the history reads them in order while a worker decodes the next one.
+    const nlohmann::json page7 = PageHistory(dir + "/site7", "entity=mp34&follow=0", dir);
+    CheckSameHistory(cli, page7);
+    CHECK(page7.value("decoder", "") == "worker");
     // --threads 3 compresses the 5 chunks at once (site_data.cpp ChunkWriter): every file the same.
     const auto t3 = RunDynref("view " + Quote(golden) + " --digits 17 --no-overlays --chunk-frames 7 --threads 3 --out " +
                               Quote(dir + "/site7t"));

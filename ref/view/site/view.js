@@ -69,6 +69,74 @@ function latin1Bytes(text) {
 function unlzma(packed) {
   return JSON.parse(new TextDecoder().decode(lzmaDecode(latin1Bytes(packed))));
 }
+// Data files are decoded off the page's thread: LZMA in JavaScript runs at ~15 MB of JSON per
+// second, so a long history (a map point seen in hundreds of frames: one data file per 30 frames,
+// ~1 s each) would freeze the page for as long. DECODERS workers, made from a Blob of lzma.js's
+// own function text (a worker script file cannot be loaded from file://), decode the files a
+// history needs two at a time; the page only parses the JSON. Where a worker cannot be made, the
+// page decodes itself (S.decoder says which; the selftest reports it).
+const DECODERS = Math.max(1, Math.min(2, navigator.hardwareConcurrency || 1));
+const decoders = { pool: null, next: 0, jobs: new Map(), id: 0 };
+function decoderPool() {
+  if (decoders.pool !== null) return decoders.pool;
+  decoders.pool = [];
+  try {
+    const source = `'use strict';\nconst lzmaDecode = (${lzmaDecode.toString()});\n` +
+      'onmessage = (e) => { try { const out = lzmaDecode(e.data.bytes);' +
+      ' postMessage({ id: e.data.id, out }, [out.buffer]); }' +
+      ' catch (err) { postMessage({ id: e.data.id, error: String(err) }); } };';
+    const url = URL.createObjectURL(new Blob([source], { type: 'text/javascript' }));
+    for (let i = 0; i < DECODERS; ++i) {
+      const w = new Worker(url);
+      // A worker that cannot run (a browser refusing Blob workers here): every file it holds and
+      // every later one is decoded by the page.
+      w.onerror = () => {
+        decoders.pool = [];
+        S.decoder = 'page';
+        for (const job of decoders.jobs.values()) {
+          try { job.resolve(lzmaDecode(latin1Bytes(job.packed))); } catch (err) { job.reject(err); }
+        }
+        decoders.jobs.clear();
+      };
+      w.onmessage = (e) => {
+        const job = decoders.jobs.get(e.data.id);
+        decoders.jobs.delete(e.data.id);
+        if (e.data.error) job.reject(new Error(e.data.error));
+        else job.resolve(e.data.out);
+      };
+      decoders.pool.push(w);
+    }
+    S.decoder = 'worker';
+  } catch (err) {
+    decoders.pool = [];
+    S.decoder = 'page';
+  }
+  return decoders.pool;
+}
+// unlzma, decoded by the next worker of the pool (by the page when there is none).
+async function unlzmaOffThread(packed) {
+  const pool = decoderPool();
+  if (!pool.length) return unlzma(packed);
+  const bytes = latin1Bytes(packed);
+  const id = ++decoders.id;
+  const job = new Promise((resolve, reject) => {
+    decoders.jobs.set(id, { resolve, reject, packed });
+    pool[decoders.next++ % pool.length].postMessage({ id, bytes }, [bytes.buffer]);
+  });
+  const out = await (SELFTEST ? busyUntil(job) : job);
+  return JSON.parse(new TextDecoder().decode(out));
+}
+// The selftest runs in headless Chromium under --virtual-time-budget, whose clock moves on while
+// the page is idle, and waiting for a worker is idle: the page would be dumped before the worker
+// answers. So there the page keeps itself busy (a message to itself, never a timer) until it does.
+const SELFTEST = new URLSearchParams(location.search).get('selftest') === '1';
+async function busyUntil(promise) {
+  let settled = false;
+  promise.then(() => { settled = true; }, () => { settled = true; });
+  const channel = new MessageChannel();
+  while (!settled) await new Promise((resolve) => { channel.port1.onmessage = resolve; channel.port2.postMessage(0); });
+  return promise;
+}
 // One frame's packed columns (packed.h PackColumns), expanded lazily: a column is restored (a
 // template {c, t, n} expanded, a reference {"=": [schema, index]} resolved) only when asked for,
 // so that a history reads the entity columns of a frame, not all of its numbers.
@@ -125,7 +193,7 @@ function chunkOf(k, n) {
       const z = S.packed[key];
       delete S.packed[key];
       if (!z) return undefined;
-      const frames = unlzma(z.packed);
+      const frames = await unlzmaOffThread(z.packed);
       return frames.map((cols, i) => ({ ...z.heads[i], columns: new FrameColumns(cols) }));
     })();
     p.catch(() => S.cache.delete(key));
@@ -133,6 +201,24 @@ function chunkOf(k, n) {
   S.cache.set(key, p);
   while (S.cache.size > CACHE_CHUNKS) S.cache.delete(S.cache.keys().next().value);
   return p;
+}
+// The frames of a history in order, each with its data (frameOf), the next data file decoded by a
+// worker while the page reads the rows of this one, and the progress in #history-title.
+async function* historyFrames(k, summary, frames, id) {
+  const K = summary.chunk_frames;
+  const chunkOfFrame = (f) => (summary.indexOfFrame.has(f) ? Math.floor(summary.indexOfFrame.get(f) / K) : -1);
+  const chunks = [...new Set(frames.map(chunkOfFrame).filter((c) => c >= 0))];
+  let current = -1;
+  for (const f of frames) {
+    const c = chunkOfFrame(f);
+    if (c !== current && c >= 0) {
+      current = c;
+      const i = chunks.indexOf(c);
+      if (chunks.length > 1) $('history-title').textContent = `${id}: reading data file ${i + 1} of ${chunks.length} (frame ${f})`;
+      if (i + 1 < chunks.length) chunkOf(k, chunks[i + 1]).catch(() => {});  // decoded ahead
+    }
+    yield [f, await frameOf(k, f)];
+  }
 }
 // A frame's data {frame, stamp, image, columns} (undefined when the run has no such frame).
 async function frameOf(k, f) {
@@ -199,8 +285,7 @@ async function plainHistory(k, id) {
   const frames = framesOf(summary, id);
   const m = /^(mp|ml|mpl)(\d+)$/.exec(id);
   const rows = [];
-  for (const f of frames) {
-    const data = await frameOf(k, f);
+  for await (const [f, data] of historyFrames(k, summary, frames, id)) {
     if (!data) continue;
     const wanted = m ? relatedEntities(summary, data.columns, m) : new Set();
     wanted.add(id);
@@ -337,8 +422,7 @@ async function followHistory(k, id) {
   const frames = new Set();
   for (const c of chain) for (const f of framesOf(summary, c.entity)) frames.add(f);
   const rows = [];
-  for (const f of [...frames].sort((a, b) => a - b)) {
-    const data = await frameOf(k, f);
+  for await (const [f, data] of historyFrames(k, summary, [...frames].sort((a, b) => a - b), id)) {
     if (!data) continue;
     for (const row of data.columns.rows((e) => members.has(baseId(e)))) {
       const r = decode(summary, row);
@@ -490,7 +574,7 @@ async function showEntity(id) {
     const out = history.rows.map((r) => [r.frame, r.type, r.stage, r.kind, r.entity, r.occurrence,
       Object.fromEntries(r.fields)]);
     const chain = history.chain ? history.chain.map((c) => [c.frame, c.entity, c.via, c.from]) : null;
-    $('selftest').textContent = JSON.stringify({ entity: id, follow, chain, rows: out });
+    $('selftest').textContent = JSON.stringify({ entity: id, follow, chain, rows: out, decoder: S.decoder || 'none' });
     document.title = 'selftest-done';
   }
   return history;
