@@ -4,11 +4,13 @@
 The full regeneration at the papers' lengths takes ~30 CPU hours, more than a machine session of
 this project lasts, and a session's end takes its processes and its disk with it. A checkpoint
 keeps what the next session cannot make again cheaply: every run's results (trajectory, run.json,
-the cached precision/recall counts, the reuse markers), every sequence's small files (synth.yaml,
-ground truth, detections), the seed jobs' reports and `.done` files and the time log. It leaves out
-what is large and made again identically when needed: the sequences' images (rgb/, depth/, and the
-per-frame ground-truth masks), which a seed job synthesises again (same bytes, same commit), and
-the full traces, which the runs' cached counts replace.
+the cached precision/recall counts, the reuse markers, --trace frames traces), every sequence's
+named small files (synth.yaml, ground truth, frame lists, gt/moving.txt, detection formats), the
+seed jobs' reports and `.done` files, the reports and the time log. It leaves out what is large and
+made again identically when needed: the sequences' per-frame files and images, which a seed job
+synthesises again (same bytes, same commit), and the runs' maps, overlays and traces (listed in
+the part as dropped: a run whose table's report reads them, workflow/config.yaml
+reports_read_run_files, is made again after a restore until that report is written).
 
     regen-checkpoint.py save    --work WORK --state DIR [--stop]
     regen-checkpoint.py restore --work WORK --state DIR [--config workflow/config.yaml]
@@ -31,9 +33,12 @@ import subprocess
 import sys
 import time
 
-# Directories of a sequence that a checkpoint leaves out (re-synthesised when needed).
-IMAGE_DIRS = ("rgb", "depth", "motion", "instances", "masks")
 STAMP = ".restored"  # WORK/.restored: files newer than it are this session's
+# A run's files a checkpoint leaves out: maps, images and traces (the tables' reports read a run's
+# trajectory, run.json and cached counts; the few that read more name it in workflow/config.yaml
+# reports_read_run_files, and their runs are made again). A --trace frames trace is ~0.4 KB per
+# frame and compresses badly: two thirds of a checkpoint if kept.
+RUN_LEFT_OUT = (".ply", ".pcd", ".ot", ".bt", ".pgm", ".png", ".jpg", "trace.dtr")
 
 
 def fail(msg):
@@ -41,15 +46,30 @@ def fail(msg):
     sys.exit(2)
 
 
-def is_left_out(rel):
-    parts = rel.split(os.sep)
-    if parts[-1] in ("trace.dtr", "regenerate.pid", STAMP) or parts[0] == "logs":
+def sequence_file_kept(below):
+    """A file of a sequence folder (its path below seq/<preset>/) that a checkpoint keeps: the
+    top-level files (synth.yaml, ground truth, lists, the reuse marker) and the named files of gt/
+    and detections/<mode>/ (moving.txt, labels.yaml, index.txt, format.txt, ...), not the per-frame
+    ones (named by their timestamp), the images or the scene's PLY files."""
+    if len(below) == 1:
         return True
-    # <table>/seed<S>/seq/<preset>/<image dir>/...  (and gt/<image dir>/...)
-    if "seq" in parts:
-        below = parts[parts.index("seq") + 2:]
-        return any(p in IMAGE_DIRS for p in below[:-1])
-    return False
+    name = below[-1]
+    return (below[0] in ("gt", "detections") and len(below) <= 3 and not name[:1].isdigit()
+            and not name.endswith((".png", ".ply")))
+
+
+def classify(rel):
+    """'keep', 'skip' (never saved: logs, the pid, the stamp, a sequence's per-frame files) or
+    'drop' (a run's map, image or trace: named in the part's list of dropped files, so that restore
+    knows the run lost it)."""
+    parts = rel.split(os.sep)
+    if parts[0] == "logs" or parts[-1] in ("regenerate.pid", STAMP):
+        return "skip"
+    if "seq" in parts[:-1]:
+        return "keep" if sequence_file_kept(parts[parts.index("seq") + 2:]) else "skip"
+    if "runs" in parts[:-1] and parts[-1].endswith(RUN_LEFT_OUT):
+        return "drop"
+    return "keep"
 
 
 def alive(pid):
@@ -88,30 +108,39 @@ def save(work, state, stop_first):
         stop(work)
     stamp = os.path.join(work, STAMP)
     since = os.path.getmtime(stamp) if os.path.exists(stamp) else None
-    files = []
+    files, dropped = [], []
     for root, dirs, names in os.walk(work):
         dirs.sort()
         for name in sorted(names):
             path = os.path.join(root, name)
             rel = os.path.relpath(path, work)
-            if os.path.islink(path) or is_left_out(rel):
+            if os.path.islink(path) or not (since is None or os.path.getmtime(path) > since):
                 continue
-            if since is None or os.path.getmtime(path) > since:
+            kind = classify(rel)
+            if kind == "keep":
                 files.append(rel)
+            elif kind == "drop":
+                dropped.append(rel)
     os.makedirs(state, exist_ok=True)
     parts = sorted(p for p in os.listdir(state) if p.startswith("part-") and p.endswith(".tar.xz"))
     name = "part-%03d.tar.xz" % (len(parts) + 1)
     if not files:
         print("regen-checkpoint: nothing new in %s" % work, file=sys.stderr)
         return
+    # The list of the run files left out travels in the part (restore: runs that must be made
+    # again when their table's report reads them).
+    listing_name = ".checkpoint-dropped-%03d.txt" % (len(parts) + 1)
+    with open(os.path.join(work, listing_name), "w") as f:
+        f.write("".join(d + "\n" for d in dropped))
+    files.append(listing_name)
     tmp = os.path.join(state, name + ".tmp")
     listing = "\n".join(files) + "\n"
     subprocess.run(["tar", "-C", work, "--sort=name", "--owner=0", "--group=0", "--numeric-owner",
                     "-cJf", tmp, "--verbatim-files-from", "-T", "-"], input=listing.encode(), check=True)
     os.replace(tmp, os.path.join(state, name))
-    print("regen-checkpoint: %s/%s: %d files, %.1f MB" % (state, name, len(files),
-                                                          os.path.getsize(os.path.join(state, name)) / 1e6),
-          file=sys.stderr)
+    os.remove(os.path.join(work, listing_name))
+    print("regen-checkpoint: %s/%s: %d files, %.1f MB (%d run files left out)" % (
+        state, name, len(files), os.path.getsize(os.path.join(state, name)) / 1e6, len(dropped)), file=sys.stderr)
 
 
 def work_folders(config, work):
@@ -128,7 +157,10 @@ def work_folders(config, work):
     pruned = {w for w, ts in tables_of.items() if ts[0] in prune}
     reported = {w for w, ts in tables_of.items()
                 if all(os.path.exists(os.path.join(work, "reports", t + ".md")) for t in ts)}
-    return pruned, reported
+    # work folder -> the endings of the run files its report reads
+    reads = c.get("reports_read_run_files", {})
+    reads_runs = {w: tuple(e for t in ts for e in reads.get(t, [])) for w, ts in tables_of.items()}
+    return pruned, reported, {w: e for w, e in reads_runs.items() if e}
 
 
 def restore(work, state, config):
@@ -140,7 +172,16 @@ def restore(work, state, config):
     os.makedirs(work, exist_ok=True)
     for p in parts:
         subprocess.run(["tar", "-C", work, "-xJf", os.path.join(state, p)], check=True)
-    pruned, reported = work_folders(config, work)
+    pruned, reported, reads_runs = work_folders(config, work)
+    # Runs whose report reads a file the checkpoints left out are made again: their reuse marker goes.
+    remade = 0
+    for listing in sorted(n for n in os.listdir(work) if n.startswith(".checkpoint-dropped-")):
+        for rel in open(os.path.join(work, listing)).read().split():
+            table = rel.split(os.sep)[0]
+            marker = os.path.join(work, os.path.dirname(rel), ".dynref-reproduce")
+            if rel.endswith(reads_runs.get(table, ())) and table not in reported and os.path.exists(marker):
+                os.remove(marker)
+                remade += 1
     removed_seq = undone = 0
     for table in sorted(os.listdir(work)):
         tdir = os.path.join(work, table)
@@ -168,7 +209,8 @@ def restore(work, state, config):
         f.write("restored from %s (%d parts)\n" % (state, len(parts)))
     time.sleep(1.1)  # this session's files are newer than the stamp on second-resolution file systems
     print("regen-checkpoint: %s restored from %d parts; %d sequences to synthesise again, %d seed jobs to run"
-          " again (their reports read images)" % (work, len(parts), removed_seq, undone), file=sys.stderr)
+          " again (their reports read images), %d runs to make again (their reports read maps or full traces)"
+          % (work, len(parts), removed_seq, undone, remade), file=sys.stderr)
 
 
 def main():

@@ -12,6 +12,9 @@ import sys
 import tempfile
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from checks import verdict  # noqa: E402
+
 SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "cpu_heartbeat.py")
 LOOP = "sh -c 'i=0; while [ $i -lt 200000 ]; do i=$((i+1)); done'"
 TWO = "for i in 1 2; do %s & done; wait" % LOOP  # two busy grandchildren: the tree, not the child
@@ -79,10 +82,7 @@ def main():
     f = fields(out)
     checks += [(rc != 0 and f[6] == "stopped", "SIGTERM stops the command, line 'stopped' (rc %d): %s" % (rc, f)),
                (cpu(f) > 0.8 * ref, "and it holds the command's CPU: %s (direct %.2f s)" % (f, ref))]
-    failed = [what for good, what in checks if not good]
-    for what in failed:
-        print("FAILED: " + what)
-    return 1 if failed else 0
+    return verdict(checks)
 
 
 if __name__ == "__main__":

@@ -9,9 +9,13 @@ import tarfile
 import tempfile
 import time
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from checks import verdict  # noqa: E402
+
 SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "regen-checkpoint.py")
-CONFIG = """tables: [pruned-t, images-t, reported-t, sgdo-table1, sgdo-table2]
+CONFIG = """tables: [pruned-t, images-t, reported-t, maps-t, sgdo-table1, sgdo-table2]
 prune_images: [pruned-t, sgdo-table1]
+reports_read_run_files: {maps-t: [.pcd], reported-t: [.pcd]}
 """
 
 
@@ -26,8 +30,9 @@ def seq(root, table_seed, rgb=True):
     base = table_seed + "/seq/walking_xyz/"
     for rel in ("synth.yaml", "groundtruth.txt", "gt/moving.txt", "detections/yolo-like/index.txt"):
         touch(root, base + rel)
-    if rgb:
-        for rel in ("rgb/1.png", "depth/1.png", "gt/motion/1.png"):
+    if rgb:  # every per-frame file and image of a sequence
+        for rel in ("rgb/1.png", "depth/1.png", "gt/motion/1.png", "gt/1700000000.1.png", "gt/1700000000.1.txt",
+                    "gt/static_scene.ply", "detections/yolo-like/1700000000.1.txt"):
             touch(root, base + rel)
 
 
@@ -49,9 +54,19 @@ def main():
     seq(w, "images-t/seed1")
     touch(w, "images-t/seed1/runs/walking_xyz/mgd/trajectory.txt")
     touch(w, "images-t/seed1/runs/walking_xyz/mgd/trace.dtr")
+    touch(w, "images-t/seed1/runs/walking_xyz/mgd/.dynref-reproduce")
+    # maps-t: its report reads the runs' maps; one run has a map, one has none
+    touch(w, "maps-t/seed1.done", "")
+    seq(w, "maps-t/seed1")
+    touch(w, "maps-t/seed1/runs/walking_xyz/semantic/semantic_map.pcd")
+    touch(w, "maps-t/seed1/runs/walking_xyz/semantic/.dynref-reproduce")
+    touch(w, "maps-t/seed1/runs/walking_xyz/orb/.dynref-reproduce")
+    touch(w, "maps-t/seed1/runs/walking_xyz/orb/trace.dtr")  # dropped, but not a file the report reads
     # reported-t: finished and reported
     touch(w, "reported-t/seed1.done", "")
     seq(w, "reported-t/seed1")
+    touch(w, "reported-t/seed1/runs/walking_xyz/semantic/semantic_map.pcd")
+    touch(w, "reported-t/seed1/runs/walking_xyz/semantic/.dynref-reproduce")
     touch(w, "reports/reported-t.md")
     # sgdo-main (tables 1 and 2, pruned): one report of two written, so not reported
     touch(w, "sgdo-main/seed1.done", "")
@@ -64,12 +79,21 @@ def main():
     r = run(["save", "--work", w, "--state", state])
     checks.append((r.returncode == 0, "save: %s" % r.stderr))
     names = tarfile.open(os.path.join(state, "part-001.tar.xz")).getnames()
-    checks += [(not any(n.split("/")[-2] in ("rgb", "depth", "motion") for n in names if "/" in n),
-                "no images: %s" % names),
-               (not any(n.endswith("trace.dtr") or n.startswith("logs") for n in names), "no trace, no logs: %s" % names),
+    seq_files = sorted(n for n in names if n.startswith("pruned-t/seed2/seq/"))
+    checks += [(seq_files == ["pruned-t/seed2/seq/walking_xyz/" + f for f in
+                              ("detections/yolo-like/index.txt", "groundtruth.txt", "gt/moving.txt", "synth.yaml")],
+                "a sequence keeps only its named small files: %s" % seq_files),
+               (not any(n.endswith((".png", ".ply", ".pcd")) for n in names), "no image, no map: %s" % names),
+               (not any(n.endswith("trace.dtr") for n in names), "no trace"),
+               (not any(n.startswith("logs") for n in names), "no logs: %s" % names),
                ("images-t/seed1/runs/walking_xyz/mgd/trajectory.txt" in names, "the run's results"),
-               ("pruned-t/seed2/seq/walking_xyz/gt/moving.txt" in names, "the sequences' small files"),
                ("regenerate-time.log" in names, "the time log")]
+    dropped = tarfile.open(os.path.join(state, "part-001.tar.xz")).extractfile(".checkpoint-dropped-001.txt").read().decode().split()
+    checks.append((dropped == ["images-t/seed1/runs/walking_xyz/mgd/trace.dtr",
+                               "maps-t/seed1/runs/walking_xyz/orb/trace.dtr",
+                               "maps-t/seed1/runs/walking_xyz/semantic/semantic_map.pcd",
+                               "reported-t/seed1/runs/walking_xyz/semantic/semantic_map.pcd"],
+                   "the part lists the run files it left out: %s" % dropped))
     w2 = os.path.join(d, "work2")
     r = run(["restore", "--work", w2, "--state", state, "--config", config])
     checks.append((r.returncode == 0, "restore: %s" % r.stderr))
@@ -83,14 +107,23 @@ def main():
                (e("reported-t/seed1.done") and e("reported-t/seed1/seq/walking_xyz/synth.yaml"),
                 "a reported table keeps everything"),
                (e("sgdo-main/seed1.done") and e("sgdo-main/seed1/seq/walking_xyz/synth.yaml"),
-                "sgdo-main, pruned and finished, keeps its .done though one of its reports is missing")]
+                "sgdo-main, pruned and finished, keeps its .done though one of its reports is missing"),
+               (not e("maps-t/seed1/runs/walking_xyz/semantic/.dynref-reproduce"),
+                "a run whose map its unreported table reads is made again (its marker removed)"),
+               (e("maps-t/seed1/runs/walking_xyz/orb/.dynref-reproduce"),
+                "a run that lost only files its table's report does not read is reused"),
+               (e("images-t/seed1/runs/walking_xyz/mgd/.dynref-reproduce"),
+                "a run whose table reads no run files is reused though its full trace is gone"),
+               (e("reported-t/seed1/runs/walking_xyz/semantic/.dynref-reproduce"),
+                "a reported table's runs are kept as they are")]
     # Nothing new since the restore: no part; then one new file: a part with it alone.
     r = run(["save", "--work", w2, "--state", state])
     checks.append((not os.path.exists(os.path.join(state, "part-002.tar.xz")), "nothing new, no part: %s" % r.stderr))
     touch(w2, "pruned-t/seed2.done", "")
     run(["save", "--work", w2, "--state", state])
     names = tarfile.open(os.path.join(state, "part-002.tar.xz")).getnames()
-    checks.append((names == ["pruned-t/seed2.done"], "the second part holds only the new file: %s" % names))
+    checks.append((sorted(names) == [".checkpoint-dropped-002.txt", "pruned-t/seed2.done"],
+                   "the second part holds only the new file (and its empty dropped list): %s" % names))
     # --stop: SIGTERM to the pid in regenerate.pid, and save waits for it to end.
     p = subprocess.Popen([sys.executable, "-c", "import time\nwhile True: time.sleep(0.1)"])
     touch(w2, "regenerate.pid", "%d\n" % p.pid)
@@ -100,10 +133,7 @@ def main():
                (r.returncode == 0 and time.monotonic() - t0 < 30, "and saved")]
     r = run(["restore", "--work", w2, "--state", state, "--config", config])
     checks.append((r.returncode == 2 and "not empty" in r.stderr, "restore refuses a folder that is not empty"))
-    failed = [what for good, what in checks if not good]
-    for what in failed:
-        print("FAILED: " + what)
-    return 1 if failed else 0
+    return verdict(checks)
 
 
 if __name__ == "__main__":

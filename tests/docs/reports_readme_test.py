@@ -6,6 +6,9 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from checks import verdict  # noqa: E402
+
 SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "scripts", "reports_readme.py")
 CONFIG = """headline_tables: [t1]
 headline_frames: 0
@@ -49,10 +52,7 @@ def main():
     checks += [(code2 == 1, "exit 1 when a table names +dirty"), ("t2 names abc123def456+dirty" in err2, err2)]
     code3, _, err3 = run(ok, ["2026-11-28T01:00Z abc123def456 2 1 1 1", "2026-11-28T02:00Z fff123def456 2 1 1 1"])
     checks += [(code3 != 0 and "several commits" in err3, "refuses a log of two commits: " + err3)]
-    failed = [what for good, what in checks if not good]
-    for what in failed:
-        print("FAILED: " + what)
-    return 1 if failed else 0
+    return verdict(checks)
 
 
 if __name__ == "__main__":
