@@ -4,7 +4,7 @@
 The full regeneration at the papers' lengths takes ~30 CPU hours, more than a machine session of
 this project lasts, and a session's end takes its processes and its disk with it. A checkpoint
 keeps what the next session cannot make again cheaply: every run's results (trajectory, run.json,
-the cached precision/recall counts, the reuse markers, --trace frames traces), every sequence's
+the cached precision/recall counts, the reuse marker), every sequence's
 named small files (synth.yaml, ground truth, frame lists, gt/moving.txt, detection formats), the
 seed jobs' reports and `.done` files, the reports and the time log. It leaves out what is large and
 made again identically when needed: the sequences' per-frame files and images, which a seed job
