@@ -73,6 +73,7 @@ def main():
         ap.error("no command after --")
     t0 = time.monotonic()
     child = subprocess.Popen(cmd)
+    last = (0.0, 0.0)  # the last heartbeat's tree CPU
 
     def pass_on(signum, _frame):
         child.send_signal(signum)
@@ -84,10 +85,13 @@ def main():
             rc = child.wait(timeout=a.every)
             break
         except subprocess.TimeoutExpired:
-            user, system = tree_cpu(child.pid)
+            user, system = last = tree_cpu(child.pid)
             write(a.out, "%s %.1f %.2f %.2f stopped" % (a.prefix, time.monotonic() - t0, user, system))
     usage = resource.getrusage(resource.RUSAGE_CHILDREN)
-    write(a.out, "%s %.1f %.2f %.2f %s" % (a.prefix, time.monotonic() - t0, usage.ru_utime, usage.ru_stime,
+    # A stopped command may leave grandchildren it never reaped (snakemake ending on SIGTERM while
+    # its jobs still run): getrusage then misses their time, and the last heartbeat holds more.
+    user, system = max((usage.ru_utime, usage.ru_stime), last, key=sum)
+    write(a.out, "%s %.1f %.2f %.2f %s" % (a.prefix, time.monotonic() - t0, user, system,
                                             "complete" if rc == 0 else "stopped"))
     return rc
 

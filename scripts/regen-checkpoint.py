@@ -65,6 +65,9 @@ def classify(rel):
     parts = rel.split(os.sep)
     if parts[0] == "logs" or parts[-1] in ("regenerate.pid", STAMP):
         return "skip"
+    # a killed run's or synthesis' staging folder (X.tmp.<pid>, renamed onto X when complete) and locks
+    if any(".tmp." in p for p in parts) or parts[-1].endswith(".lock"):
+        return "skip"
     if "seq" in parts[:-1]:
         return "keep" if sequence_file_kept(parts[parts.index("seq") + 2:]) else "skip"
     if "runs" in parts[:-1] and parts[-1].endswith(RUN_LEFT_OUT):
@@ -92,9 +95,13 @@ def stop(work):
     except ProcessLookupError:
         return
     print("regen-checkpoint: stopping the regeneration (heartbeat pid %d)" % pid, file=sys.stderr)
-    for _ in range(1200):  # snakemake ends its jobs; at most 10 minutes
+    # Snakemake 7 waits for its running jobs on SIGTERM (measured: still running 10 minutes
+    # later), so after 30 s the jobs' processes (the heartbeat's whole process group) get SIGTERM too.
+    for i in range(1200):
         if not alive(pid):
             break
+        if i == 60:
+            os.killpg(os.getpgid(pid), signal.SIGTERM)
         time.sleep(0.5)
     else:
         fail("pid %d did not stop within 10 minutes" % pid)

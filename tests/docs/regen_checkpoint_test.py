@@ -54,6 +54,7 @@ def main():
     seq(w, "images-t/seed1")
     touch(w, "images-t/seed1/runs/walking_xyz/mgd/trajectory.txt")
     touch(w, "images-t/seed1/runs/walking_xyz/mgd/trace.dtr")
+    touch(w, "images-t/seed1/runs/walking_xyz/epi.tmp.42/run.json")  # a killed run's staging folder
     touch(w, "images-t/seed1/runs/walking_xyz/mgd/.dynref-reproduce")
     # maps-t: its report reads the runs' maps; one run has a map, one has none
     touch(w, "maps-t/seed1.done", "")
@@ -85,6 +86,7 @@ def main():
                 "a sequence keeps only its named small files: %s" % seq_files),
                (not any(n.endswith((".png", ".ply", ".pcd")) for n in names), "no image, no map: %s" % names),
                (not any(n.endswith("trace.dtr") for n in names), "no trace"),
+               (not any(".tmp." in n for n in names), "no staging folder of a killed run"),
                (not any(n.startswith("logs") for n in names), "no logs: %s" % names),
                ("images-t/seed1/runs/walking_xyz/mgd/trajectory.txt" in names, "the run's results"),
                ("regenerate-time.log" in names, "the time log")]
