@@ -28,10 +28,14 @@ table loses its `.done`, since its report reads the images (it runs again: synth
 """
 import argparse
 import os
+import shutil
 import signal
 import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "workflow"))
+from tables import tables_of  # noqa: E402  (the work folders as workflow/Snakefile makes them)
 
 STAMP = ".restored"  # WORK/.restored: files newer than it are this session's
 # A run's files a checkpoint leaves out: maps, images and traces (the tables' reports read a run's
@@ -108,6 +112,11 @@ def stop(work):
     time.sleep(1)  # regenerate-reports.sh moves the heartbeat's last line into the time log
 
 
+def parts_in(state):
+    """The checkpoint's parts, in the order they were written."""
+    return sorted(p for p in os.listdir(state) if p.startswith("part-") and p.endswith(".tar.xz"))
+
+
 def save(work, state, stop_first):
     if not os.path.isdir(work):
         fail("%s: no work folder" % work)
@@ -129,7 +138,7 @@ def save(work, state, stop_first):
             elif kind == "drop":
                 dropped.append(rel)
     os.makedirs(state, exist_ok=True)
-    parts = sorted(p for p in os.listdir(state) if p.startswith("part-") and p.endswith(".tar.xz"))
+    parts = parts_in(state)
     name = "part-%03d.tar.xz" % (len(parts) + 1)
     if not files:
         print("regen-checkpoint: nothing new in %s" % work, file=sys.stderr)
@@ -157,21 +166,18 @@ def work_folders(config, work):
 
     c = yaml.safe_load(open(config))
     prune = set(c.get("prune_images", []))
-    sgdo_main = ["sgdo-table1", "sgdo-table2", "sgdo-table3", "sgdo-table4", "sgdo-table7"]
-    tables_of = {}
-    for t in c["tables"]:
-        tables_of.setdefault("sgdo-main" if t in sgdo_main else t, []).append(t)
-    pruned = {w for w, ts in tables_of.items() if ts[0] in prune}
-    reported = {w for w, ts in tables_of.items()
+    folders = tables_of(c["tables"])
+    pruned = {w for w, ts in folders.items() if ts[0] in prune}
+    reported = {w for w, ts in folders.items()
                 if all(os.path.exists(os.path.join(work, "reports", t + ".md")) for t in ts)}
     # work folder -> the endings of the run files its report reads
     reads = c.get("reports_read_run_files", {})
-    reads_runs = {w: tuple(e for t in ts for e in reads.get(t, [])) for w, ts in tables_of.items()}
+    reads_runs = {w: tuple(e for t in ts for e in reads.get(t, [])) for w, ts in folders.items()}
     return pruned, reported, {w: e for w, e in reads_runs.items() if e}
 
 
 def restore(work, state, config):
-    parts = sorted(p for p in os.listdir(state) if p.startswith("part-") and p.endswith(".tar.xz"))
+    parts = parts_in(state)
     if not parts:
         fail("%s: no part-NNN.tar.xz" % state)
     if os.path.exists(work) and os.listdir(work):
@@ -201,16 +207,17 @@ def restore(work, state, config):
             done = sdir + ".done"
             # finished and not needing its images again: a pruned table's seed, or any seed of a
             # table whose reports are all written (snakemake runs none of its jobs again)
-            keep_pruned = os.path.exists(done) and (table in pruned or table in reported)
-            if os.path.exists(done) and not keep_pruned:
+            finished = os.path.exists(done)
+            keep = finished and (table in pruned or table in reported)
+            if finished and not keep:
                 os.remove(done)
                 undone += 1
             for root, dirs, _ in os.walk(sdir):
                 dirs.sort()
                 if os.path.basename(os.path.dirname(root)) == "seq" and os.path.exists(os.path.join(root, "synth.yaml")):
                     dirs[:] = []
-                    if not keep_pruned and not os.path.isdir(os.path.join(root, "rgb")):
-                        subprocess.run(["rm", "-rf", root], check=True)
+                    if not keep and not os.path.isdir(os.path.join(root, "rgb")):
+                        shutil.rmtree(root)
                         removed_seq += 1
     with open(os.path.join(work, STAMP), "w") as f:
         f.write("restored from %s (%d parts)\n" % (state, len(parts)))

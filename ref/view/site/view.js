@@ -569,8 +569,7 @@ async function showEntity(id) {
   const history = follow ? await followHistory(S.run, id) : await plainHistory(S.run, id);
   if (S.entity !== id) return history;  // another entity was asked for meanwhile
   renderHistory(history);
-  const params = new URLSearchParams(location.search);
-  if (params.get('selftest') === '1') {
+  if (SELFTEST) {
     const out = history.rows.map((r) => [r.frame, r.type, r.stage, r.kind, r.entity, r.occurrence,
       Object.fromEntries(r.fields)]);
     const chain = history.chain ? history.chain.map((c) => [c.frame, c.entity, c.via, c.from]) : null;
